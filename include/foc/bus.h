@@ -1,0 +1,36 @@
+/*
+ * DC-bus voltage: filtering, the voltage limit it allows, and modulation
+ * compensation.
+ *
+ * The voltage base is fixed at the nominal bus (Vdc_nominal / sqrt(3)), so
+ * when the bus sags the same per-unit voltage needs a larger modulation
+ * index: the SVM input is v x (Vdc_nominal / Vdc_measured), and the
+ * controllers are limited to Vmax = min(Vdc / Vdc_nominal, 1) x
+ * VOLTAGE_LIMIT_FRACTION so that product stays inside the linear range.
+ * Above the nominal bus the extra voltage is not used (the per-unit range
+ * ends at 1.0).
+ *
+ * The reciprocal needs one division, done on the slow tick.
+ */
+#ifndef FOC_BUS_H
+#define FOC_BUS_H
+
+#include "foc/lpf.h"
+#include "foc/transforms.h"
+
+typedef struct {
+    foc_lpf_q15_t vdc;  /* filtered bus, Q15 of BOARD_VDC_FULL_SCALE_V */
+    q15_t v_max;        /* |Vdq| limit, Q15 of the voltage base */
+    int16_t comp_q14;   /* Vdc_nominal / Vdc, Q14, in [0.5, 2] */
+} foc_bus_t;
+
+/* Starts the filter at `vdc` (Q15 of the bus full scale). */
+void foc_bus_init(foc_bus_t *bus, q15_t vdc);
+
+/* Slow tick: filters one bus sample, updates v_max and comp_q14. */
+void foc_bus_update(foc_bus_t *bus, q15_t vdc);
+
+/* Scales a voltage command (Q15 of the voltage base) to the SVM input. */
+foc_ab_t foc_bus_compensate(const foc_bus_t *bus, foc_ab_t v);
+
+#endif /* FOC_BUS_H */

@@ -1,0 +1,154 @@
+/*
+ * Compile-time derivation of the core's fixed-point constants from
+ * userparms.h (physical units).
+ *
+ * Per-unit bases (Q15 1.0, 32768 counts):
+ *   current  FOC_I_BASE_A   = BOARD_CURRENT_FULL_SCALE_A (ADC full scale)
+ *   voltage  FOC_V_BASE_V   = BOARD_VDC_NOMINAL_V / sqrt(3) (largest phase
+ *                             amplitude of linear SVM on the nominal bus)
+ *   speed    SPEED_BASE_RPM (mechanical; the same per-unit value is the
+ *                             electrical speed in units of p x base)
+ *   bus      FOC_VDC_BASE_V = BOARD_VDC_FULL_SCALE_V (bus ADC full scale)
+ *   angle    uint16_t, 65536 = 360 electrical degrees
+ *
+ * Gains above 1 are held as a Q15 mantissa and a shift (see pi.h):
+ * FOC_GAIN_SHIFT(x) is the smallest shift with x / 2^shift < 1 and
+ * FOC_GAIN_MANT(x) the mantissa.
+ *
+ * The file userparms.h is selected by the build: FOC_USERPARMS_FILE is a
+ * string naming it.
+ */
+#ifndef FOC_CONFIG_H
+#define FOC_CONFIG_H
+
+#include "foc/q15.h"
+
+#ifndef FOC_USERPARMS_FILE
+#define FOC_USERPARMS_FILE "userparms.h"
+#endif
+#include FOC_USERPARMS_FILE
+
+/* Static assertion that names what to change.  Floating-point constant
+ * expressions are folded by GCC/XC16 (not ISO C; no -pedantic on the core). */
+#define FOC_STATIC_ASSERT(cond, msg) _Static_assert(cond, msg)
+
+#define FOC_PI_D 3.14159265358979323846
+#define FOC_SQRT3_D 1.73205080756887729353
+
+/* ------------------------------------------------------------ bases -- */
+#define FOC_I_BASE_A (BOARD_CURRENT_FULL_SCALE_A)
+#define FOC_V_BASE_V (BOARD_VDC_NOMINAL_V / FOC_SQRT3_D)
+#define FOC_VDC_BASE_V (BOARD_VDC_FULL_SCALE_V)
+#define FOC_TS_S (1.0 / PWM_FREQUENCY_HZ)
+#define FOC_SLOW_TS_S (FOC_TS_S * CONTROL_SLOW_DIVIDER)
+/* electrical rad/s at speed 1.0 */
+#define FOC_WE_BASE_RAD_S (SPEED_BASE_RPM * MOTOR_POLE_PAIRS * 2.0 * FOC_PI_D / 60.0)
+/* flux linkage from Ke (V peak line-to-line per 1000 rpm) */
+#define FOC_FLUX_WB                                                            \
+    (MOTOR_KE_VPK_PER_KRPM / FOC_SQRT3_D /                                     \
+     (1000.0 * MOTOR_POLE_PAIRS * 2.0 * FOC_PI_D / 60.0))
+
+/* Physical value -> Q15 of a base, with range checks done below. */
+#define FOC_I_Q15(amps) Q15((amps) / FOC_I_BASE_A)
+#define FOC_V_Q15(volts) Q15((volts) / FOC_V_BASE_V)
+#define FOC_SPEED_Q15(rpm) Q15((rpm) / SPEED_BASE_RPM)
+#define FOC_VDC_Q15(volts) Q15((volts) / FOC_VDC_BASE_V)
+
+/* Gain mantissa/shift for 0 <= x < 32768. */
+#define FOC_GAIN_SHIFT(x)                                                      \
+    ((x) < 1.0 ? 0 : (x) < 2.0 ? 1 : (x) < 4.0 ? 2 : (x) < 8.0 ? 3           \
+     : (x) < 16.0 ? 4 : (x) < 32.0 ? 5 : (x) < 64.0 ? 6 : (x) < 128.0 ? 7     \
+     : (x) < 256.0 ? 8 : (x) < 512.0 ? 9 : (x) < 1024.0 ? 10                  \
+     : (x) < 2048.0 ? 11 : (x) < 4096.0 ? 12 : (x) < 8192.0 ? 13             \
+     : (x) < 16384.0 ? 14 : 15)
+#define FOC_GAIN_MANT(x) Q15((x) / (double)(1L << FOC_GAIN_SHIFT(x)))
+
+/* --------------------------------------------------- current control -- */
+/* PI gains in per-unit: volts per ampere x I_BASE / V_BASE; Ki per PWM
+ * period. */
+#define FOC_CURRENT_KP_PU (CURRENT_KP_V_PER_A * FOC_I_BASE_A / FOC_V_BASE_V)
+#define FOC_CURRENT_KI_PU                                                      \
+    (CURRENT_KI_V_PER_AS * FOC_TS_S * FOC_I_BASE_A / FOC_V_BASE_V)
+#define FOC_CURRENT_KP_MANT FOC_GAIN_MANT(FOC_CURRENT_KP_PU)
+#define FOC_CURRENT_KP_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_CURRENT_KP_PU))
+#define FOC_CURRENT_KI Q15(FOC_CURRENT_KI_PU)
+/* Back-calculation gain: Ki/Kp (the PI's own zero), the usual choice. */
+#define FOC_CURRENT_KC Q15(FOC_CURRENT_KI_PU / FOC_CURRENT_KP_PU)
+#define FOC_CURRENT_LIMIT FOC_I_Q15(CURRENT_LIMIT_A)
+#define FOC_VOLTAGE_LIMIT Q15(VOLTAGE_LIMIT_FRACTION)
+
+/* ----------------------------------------------------- speed control -- */
+#define FOC_SPEED_KP_PU (SPEED_KP_A_PER_RPM * SPEED_BASE_RPM / FOC_I_BASE_A)
+#define FOC_SPEED_KI_PU                                                        \
+    (SPEED_KI_A_PER_RPM_S * FOC_SLOW_TS_S * SPEED_BASE_RPM / FOC_I_BASE_A)
+#define FOC_SPEED_KP_MANT FOC_GAIN_MANT(FOC_SPEED_KP_PU)
+#define FOC_SPEED_KP_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_SPEED_KP_PU))
+#define FOC_SPEED_KI Q15(FOC_SPEED_KI_PU)
+#define FOC_SPEED_KC Q15(FOC_SPEED_KI_PU / FOC_SPEED_KP_PU)
+/* Reference slew per slow tick, Q15 speed (at least 1 LSB). */
+#define FOC_SPEED_RAMP_STEP_PU (SPEED_RAMP_RPM_PER_S * FOC_SLOW_TS_S / SPEED_BASE_RPM)
+#define FOC_SPEED_RAMP_STEP                                                    \
+    ((q15_t)(FOC_SPEED_RAMP_STEP_PU * 32768.0 < 1.0                            \
+                 ? 1 : (int32_t)(FOC_SPEED_RAMP_STEP_PU * 32768.0 + 0.5)))
+#define FOC_STOP_SPEED FOC_SPEED_Q15(STOP_SPEED_RPM)
+/* Filter constant K = 1 - exp(-Ts/tau) ~ Ts/(tau + Ts) per PWM period. */
+#define FOC_SPEED_FILTER_K Q15(FOC_TS_S / (SPEED_FILTER_TIME_S + FOC_TS_S))
+
+/* ------------------------------------------------------------ angle -- */
+/* Angle counts per PWM period at speed 1.0, and its inverse as a gain:
+ * speed (Q15) = d_theta (counts per period) x FOC_DTHETA_TO_SPEED. */
+#define FOC_DTHETA_AT_BASE (65536.0 * FOC_WE_BASE_RAD_S / (2.0 * FOC_PI_D) * FOC_TS_S)
+#define FOC_DTHETA_TO_SPEED_PU (32768.0 / FOC_DTHETA_AT_BASE)
+#define FOC_DTHETA_TO_SPEED_MANT FOC_GAIN_MANT(FOC_DTHETA_TO_SPEED_PU)
+#define FOC_DTHETA_TO_SPEED_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_DTHETA_TO_SPEED_PU))
+
+/* -------------------------------------------------------------- bus -- */
+/* Nominal bus in bus-ADC counts; the modulation compensation is
+ * Vdc_nominal / Vdc_measured in Q14 (up to 2.0). */
+#define FOC_VDC_NOMINAL FOC_VDC_Q15(BOARD_VDC_NOMINAL_V)
+#define FOC_VDC_FILTER_K Q15(0.05)
+
+/* ------------------------------------------------------- calibration -- */
+#define FOC_CALIB_PERIODS_LOG2 10 /* 1024 periods averaged for the offsets */
+#define FOC_CALIB_TICKS ((uint16_t)(CALIB_TIME_S / FOC_SLOW_TS_S + 0.5))
+
+/* ------------------------------------------------------------ checks -- */
+FOC_STATIC_ASSERT(MOTOR_POLE_PAIRS >= 1 && MOTOR_POLE_PAIRS <= 64,
+                  "MOTOR_POLE_PAIRS must be 1..64");
+FOC_STATIC_ASSERT(CURRENT_LIMIT_A > 0.0 && CURRENT_LIMIT_A < BOARD_CURRENT_FULL_SCALE_A,
+                  "CURRENT_LIMIT_A must be below BOARD_CURRENT_FULL_SCALE_A");
+FOC_STATIC_ASSERT(BOARD_VDC_NOMINAL_V < BOARD_VDC_FULL_SCALE_V,
+                  "BOARD_VDC_NOMINAL_V must be below BOARD_VDC_FULL_SCALE_V");
+FOC_STATIC_ASSERT(MOTOR_MAX_SPEED_RPM < SPEED_BASE_RPM,
+                  "SPEED_BASE_RPM must exceed MOTOR_MAX_SPEED_RPM");
+FOC_STATIC_ASSERT(FOC_DTHETA_AT_BASE < 16384.0,
+                  "SPEED_BASE_RPM x MOTOR_POLE_PAIRS too high for PWM_FREQUENCY_HZ "
+                  "(more than 90 electrical degrees per PWM period)");
+FOC_STATIC_ASSERT(FOC_CURRENT_KP_PU < 32768.0,
+                  "CURRENT_KP_V_PER_A overflows its per-unit gain format");
+FOC_STATIC_ASSERT(FOC_CURRENT_KI_PU < 1.0,
+                  "CURRENT_KI_V_PER_AS too high: Ki per PWM period must be < 1 pu");
+FOC_STATIC_ASSERT(FOC_CURRENT_KI_PU / FOC_CURRENT_KP_PU < 1.0,
+                  "CURRENT_KI_V_PER_AS / CURRENT_KP_V_PER_A too high for the "
+                  "anti-windup gain");
+FOC_STATIC_ASSERT(FOC_SPEED_KP_PU < 32768.0,
+                  "SPEED_KP_A_PER_RPM overflows its per-unit gain format");
+FOC_STATIC_ASSERT(FOC_SPEED_KI_PU < 1.0,
+                  "SPEED_KI_A_PER_RPM_S too high: Ki per slow tick must be < 1 pu");
+FOC_STATIC_ASSERT(FOC_SPEED_KI_PU / FOC_SPEED_KP_PU < 1.0,
+                  "SPEED_KI_A_PER_RPM_S / SPEED_KP_A_PER_RPM too high for the "
+                  "anti-windup gain");
+FOC_STATIC_ASSERT(FOC_SPEED_RAMP_STEP_PU < 0.5,
+                  "SPEED_RAMP_RPM_PER_S too high for the slow tick");
+FOC_STATIC_ASSERT(VOLTAGE_LIMIT_FRACTION > 0.0 && VOLTAGE_LIMIT_FRACTION <= 1.0,
+                  "VOLTAGE_LIMIT_FRACTION must be in (0, 1]");
+FOC_STATIC_ASSERT(CONTROL_SLOW_DIVIDER >= 1 && CONTROL_SLOW_DIVIDER <= 100,
+                  "CONTROL_SLOW_DIVIDER must be 1..100");
+FOC_STATIC_ASSERT(CALIB_TIME_S / FOC_SLOW_TS_S < 65535.0 &&
+                  CALIB_TIME_S * PWM_FREQUENCY_HZ >= 1024.0,
+                  "CALIB_TIME_S must cover at least 1024 PWM periods");
+FOC_STATIC_ASSERT(SPEED_FILTER_TIME_S >= 0.0, "SPEED_FILTER_TIME_S must be >= 0");
+FOC_STATIC_ASSERT(STOP_SPEED_RPM >= 0.0 && STOP_SPEED_RPM < SPEED_BASE_RPM,
+                  "STOP_SPEED_RPM out of range");
+
+#endif /* FOC_CONFIG_H */

@@ -1,0 +1,95 @@
+/*
+ * Q15/Q31 fixed-point primitives.
+ *
+ * q15_t: signed 16-bit, value = raw / 32768, range [-1, 1 - 2^-15].
+ * q31_t: signed 32-bit, value = raw / 2^31.
+ *
+ * Every function here is written for a 16-bit `int` (dsPIC33) as well as a
+ * 32-bit one: operands are widened to int32_t explicitly before any product,
+ * and no left shift is applied to a negative value (a multiplication is used
+ * instead, which compilers turn into the same shift).  Right shifts of
+ * negative values are arithmetic on every compiler we target (GCC, XC16);
+ * that is implementation-defined, not undefined, behaviour.
+ */
+#ifndef FOC_Q15_H
+#define FOC_Q15_H
+
+#include <stdint.h>
+
+typedef int16_t q15_t;
+typedef int32_t q31_t;
+
+#define Q15_MAX ((q15_t)32767)
+#define Q15_MIN ((q15_t)-32768)
+
+/* Compile-time Q15 literal from a double in [-1, 1); rounds to nearest and
+ * clamps +1.0 to the largest Q15 value.  Only for constant expressions. */
+#define Q15(x)                                                                 \
+    ((q15_t)(((x) >= 0.99998474121) ? 32767                                    \
+             : ((x) <= -1.0)        ? -32768                                   \
+             : ((x) >= 0.0) ? (int32_t)((x) * 32768.0 + 0.5)                   \
+                            : -(int32_t)(-(x) * 32768.0 + 0.5)))
+
+/* Saturate a 32-bit value to Q15. */
+static inline q15_t foc_sat_q15(int32_t x)
+{
+    if (x > 32767L) {
+        return Q15_MAX;
+    }
+    if (x < -32768L) {
+        return Q15_MIN;
+    }
+    return (q15_t)x;
+}
+
+/* Saturating Q15 addition and subtraction (the 32-bit sum cannot overflow). */
+static inline q15_t foc_add_q15(q15_t a, q15_t b)
+{
+    return foc_sat_q15((int32_t)a + (int32_t)b);
+}
+
+static inline q15_t foc_sub_q15(q15_t a, q15_t b)
+{
+    return foc_sat_q15((int32_t)a - (int32_t)b);
+}
+
+/* Q15 x Q15 -> Q15, rounded to nearest (half up), saturated: only
+ * -1 x -1 = +1 saturates, to 32767.  The Q30 product fits int32_t. */
+static inline q15_t foc_mul_q15(q15_t a, q15_t b)
+{
+    return foc_sat_q15(((int32_t)a * (int32_t)b + (int32_t)0x4000) >> 15);
+}
+
+/* Q15 x Q15 with a gain exponent: (a * b * 2^shift) / 2^15, rounded,
+ * saturated.  Lets a gain above 1 be held as a Q15 mantissa and a shift
+ * (0 <= shift <= 15).  The Q30 product is at most 2^30 in magnitude; it is
+ * shifted right by (15 - shift) so no left shift of a signed value occurs. */
+static inline q15_t foc_mul_q15_shift(q15_t a, q15_t b, uint8_t shift)
+{
+    const int32_t p = (int32_t)a * (int32_t)b;
+    const uint8_t r = (uint8_t)(15u - shift);
+    if (r == 0u) {
+        return foc_sat_q15(p);
+    }
+    return foc_sat_q15((p + (int32_t)(1L << (r - 1u))) >> r);
+}
+
+/* Saturating Q31 addition (for integrators). */
+static inline q31_t foc_add_q31(q31_t a, q31_t b)
+{
+    if ((b > 0) && (a > (INT32_MAX - b))) {
+        return INT32_MAX;
+    }
+    if ((b < 0) && (a < (INT32_MIN - b))) {
+        return INT32_MIN;
+    }
+    return a + b;
+}
+
+/* Absolute value with -32768 mapped to 32767. */
+static inline q15_t foc_abs_q15(q15_t a)
+{
+    return (a < 0) ? foc_sat_q15(-(int32_t)a) : a;
+}
+
+#endif /* FOC_Q15_H */

@@ -1,0 +1,18 @@
+/*
+ * Integer square root, for the voltage circle sqrt(Vmax^2 - Vd^2) and vector
+ * magnitudes.
+ */
+#ifndef FOC_SQRT_H
+#define FOC_SQRT_H
+
+#include <stdint.h>
+#include "foc/q15.h"
+
+/* floor(sqrt(x)) for any 32-bit unsigned x; result fits 16 bits.
+ * Bit-by-bit method: 16 iterations, no division, no multiplication. */
+uint16_t foc_isqrt32(uint32_t x);
+
+/* Magnitude of a Q15 vector, Q15, saturated to 32767 (|(-1,-1)| > 1). */
+q15_t foc_mag_q15(q15_t x, q15_t y);
+
+#endif /* FOC_SQRT_H */

@@ -1,0 +1,60 @@
+#include "foc/current_sense.h"
+#include "foc/config.h"
+
+#define CALIB_COUNT (1u << FOC_CALIB_PERIODS_LOG2)
+
+void foc_cs_calib_start(foc_current_sense_t *cs)
+{
+    cs->offset.a = 0;
+    cs->offset.b = 0;
+    cs->offset.c = 0;
+    cs->sum[0] = 0;
+    cs->sum[1] = 0;
+    cs->sum[2] = 0;
+    cs->count = 0;
+    cs->calibrated = 0;
+}
+
+/* Mean of the sum, rounded: |sum| <= 2^15 x 2^10 fits int32_t. */
+static q15_t mean_of(int32_t sum)
+{
+    return foc_sat_q15((sum + (int32_t)(CALIB_COUNT / 2u)) >> FOC_CALIB_PERIODS_LOG2);
+}
+
+void foc_cs_calib_add(foc_current_sense_t *cs, const foc_samples_t *s)
+{
+    if (cs->calibrated) {
+        return;
+    }
+    /* A 3-shunt port reads all three phases while the bridge is off. */
+    cs->sum[0] += s->i_a;
+    cs->sum[1] += s->i_b;
+    cs->sum[2] += s->i_c;
+    cs->count++;
+    if (cs->count >= CALIB_COUNT) {
+        cs->offset.a = mean_of(cs->sum[0]);
+        cs->offset.b = mean_of(cs->sum[1]);
+        cs->offset.c = mean_of(cs->sum[2]);
+        cs->calibrated = 1;
+    }
+}
+
+foc_ab_t foc_cs_alphabeta(const foc_current_sense_t *cs, const foc_samples_t *s)
+{
+    const q15_t a = foc_sub_q15(s->i_a, cs->offset.a);
+    const q15_t b = foc_sub_q15(s->i_b, cs->offset.b);
+    const q15_t c = foc_sub_q15(s->i_c, cs->offset.c);
+
+    switch (s->phases & (FOC_PHASE_A | FOC_PHASE_B | FOC_PHASE_C)) {
+    case FOC_PHASE_A | FOC_PHASE_B:
+        return foc_clarke2_q15(a, b);
+    case FOC_PHASE_B | FOC_PHASE_C:
+        return foc_clarke2_q15(foc_sat_q15(-(int32_t)b - (int32_t)c), b);
+    case FOC_PHASE_A | FOC_PHASE_C:
+        return foc_clarke2_q15(a, foc_sat_q15(-(int32_t)a - (int32_t)c));
+    default: {
+        const foc_abc_t abc = { a, b, c };
+        return foc_clarke3_q15(abc);
+    }
+    }
+}

@@ -1,0 +1,155 @@
+/*
+ * PMSM + inverter + DC bus + current-sense model, host only, double precision.
+ *
+ * Plays the inverter, the ADC and the motor for the host port.  Physics in
+ * the rotor dq frame (amplitude-invariant Park, same convention as the core:
+ * d along the magnet flux, q leading by 90 electrical degrees, positive
+ * rotation counter-clockwise, angle of phase A axis = 0):
+ *
+ *   vd = Rs id + Ld did/dt - we Lq iq
+ *   vq = Rs iq + Lq diq/dt + we (Ld id + flux)
+ *   Te = 1.5 p (flux iq + (Ld - Lq) id iq)
+ *   J dwm/dt = Te - B wm - (Tc + Tload) sgn(wm)      (passive load, with
+ *              stiction: at wm = 0 the rotor stays put while |Te| <= Tc+Tload)
+ *
+ * Inverter: average-value model over each PWM period.  Phase-to-DC-minus
+ * voltages are Vdc * duty; the star point floats, so only the differential
+ * part reaches the windings.  Optional dead-time error per phase
+ * -sgn(i_x) * Vdc * t_dead * f_pwm.  Bridge off: each phase is clamped by its
+ * free-wheeling diodes (i > 0 -> 0 V, i < 0 -> Vdc) and a phase current
+ * that reaches zero stays zero while the back-EMF cannot drive it through
+ * the diodes.  Low sides on: all phases at 0 V (windings shorted).
+ *
+ * Computation delay: duties set during period k are applied during period
+ * k+1 (pmsm_set_duties latches, the end of pmsm_step_period makes them
+ * active), like a PWM unit's shadow registers loaded at the period boundary.
+ *
+ * Integration: RK4 with `substeps` steps per PWM period.
+ *
+ * DC bus: an ideal source of `vdc_source` V.  If `bus_cap_f` > 0 the bus is
+ * a capacitor fed from the source through a diode (the source can only
+ * deliver current), so regenerated energy raises the bus voltage; a brake
+ * resistor `brake_r_ohm` across the bus can be switched on.  With
+ * bus_cap_f = 0 the bus is stiff at vdc_source.
+ *
+ * Current sensing: the value of each phase current at the sampling instant
+ * (start of the period, the centre of the low-side on-time), converted by an
+ * ADC of `adc_bits` bits whose full scale spans +-`current_fs_a`, with
+ * per-phase offset (codes) and gain error, plus deterministic seeded
+ * Gaussian noise (sigma in codes).
+ */
+#ifndef PMSM_MODEL_H
+#define PMSM_MODEL_H
+
+#include <stdint.h>
+
+typedef enum {
+    PMSM_BRIDGE_OFF = 0,       /* all six switches off (diodes only) */
+    PMSM_BRIDGE_PWM = 1,       /* duties applied */
+    PMSM_BRIDGE_LOW_SIDES = 2  /* all low sides on: windings shorted */
+} pmsm_bridge_t;
+
+typedef enum {
+    PMSM_ROTOR_FREE = 0,   /* mechanics integrated */
+    PMSM_ROTOR_LOCKED = 1, /* speed held at 0, angle frozen */
+    PMSM_ROTOR_SPIN = 2    /* speed forced to spin_rpm by an external drive */
+} pmsm_rotor_mode_t;
+
+typedef struct {
+    /* motor, star-equivalent per phase */
+    double rs_ohm;
+    double ld_h;
+    double lq_h;
+    double flux_wb;       /* permanent-magnet flux linkage (peak, per phase) */
+    int pole_pairs;
+    /* mechanics */
+    double j_kgm2;
+    double b_nm_per_rad_s; /* viscous friction */
+    double coulomb_nm;     /* dry friction */
+    /* inverter */
+    double pwm_hz;
+    double deadtime_s;     /* 0: ideal */
+    /* DC bus */
+    double vdc_source_v;
+    double bus_cap_f;      /* 0: stiff bus */
+    double brake_r_ohm;    /* brake resistor value (used when switched on) */
+    /* sensing */
+    int adc_bits;          /* 10 or 12 */
+    double current_fs_a;   /* current at ADC positive full scale */
+    double offset_codes[3];/* ADC offset per phase, codes */
+    double gain_error[3];  /* relative gain error per phase, e.g. 0.01 */
+    double noise_codes;    /* Gaussian noise sigma, codes */
+    uint32_t seed;         /* noise seed */
+    /* numerics */
+    int substeps;          /* RK4 steps per PWM period, >= 1 */
+} pmsm_params_t;
+
+typedef struct {
+    double id_a, iq_a;     /* rotor-frame currents */
+    double wm_rad_s;       /* mechanical speed */
+    double theta_e_rad;    /* electrical angle, wrapped to [0, 2 pi) */
+    double vdc_v;          /* bus voltage */
+} pmsm_state_t;
+
+/* What the ADC and the true-value probes see at the sampling instant. */
+typedef struct {
+    double ia_a, ib_a, ic_a;        /* true phase currents (into the motor) */
+    int32_t ia_code, ib_code, ic_code; /* ADC codes, 0 .. 2^bits - 1, */
+                                    /* mid-scale 2^(bits-1) = 0 A */
+    double vdc_v;
+    double theta_e_rad;             /* [0, 2 pi) */
+    double speed_rpm;               /* mechanical */
+    double torque_nm;               /* electromagnetic */
+    double vd_v, vq_v;              /* average winding voltages applied in */
+                                    /* the last period, rotor frame */
+} pmsm_sample_t;
+
+typedef struct {
+    pmsm_params_t p;
+    pmsm_state_t s;
+    pmsm_bridge_t bridge;       /* applied this period */
+    pmsm_bridge_t bridge_next;  /* latched for the next period */
+    double duty[3];             /* applied this period, [0, 1] */
+    double duty_next[3];
+    pmsm_rotor_mode_t rotor;
+    double spin_rpm;
+    double load_nm;             /* passive load torque magnitude */
+    int brake_resistor_on;
+    uint32_t rng;               /* noise generator state */
+    double vd_last_v, vq_last_v;
+    double time_s;
+} pmsm_model_t;
+
+/* Defaults: Hurst DMB0224C10002 on a dsPICDEM MCLV-like 24 V inverter,
+ * 20 kHz, ideal inverter, stiff bus, 10-bit ADC, 4.4 A full scale, no
+ * offset/gain error/noise, 4 RK4 substeps. */
+void pmsm_default_params(pmsm_params_t *p);
+
+/* Initialises state to rest (zero currents and speed, angle 0, bus at the
+ * source voltage, bridge off, rotor free). */
+void pmsm_init(pmsm_model_t *m, const pmsm_params_t *p);
+
+/* Latches duties (each clamped to [0, 1]) and bridge mode for the next
+ * period. */
+void pmsm_set_duties(pmsm_model_t *m, double da, double db, double dc);
+void pmsm_set_bridge(pmsm_model_t *m, pmsm_bridge_t mode);
+
+/* Samples currents/bus at the present instant (start of a period).  Each
+ * call draws fresh noise. */
+void pmsm_sample(pmsm_model_t *m, pmsm_sample_t *out);
+
+/* Integrates one PWM period with the active duties/bridge, then makes the
+ * latched ones active. */
+void pmsm_step_period(pmsm_model_t *m);
+
+/* Run-time changes (scenario commands). */
+void pmsm_set_rotor_angle(pmsm_model_t *m, double theta_e_rad);
+void pmsm_set_rotor_mode(pmsm_model_t *m, pmsm_rotor_mode_t mode, double spin_rpm);
+void pmsm_set_load(pmsm_model_t *m, double load_nm);
+void pmsm_set_vdc(pmsm_model_t *m, double vdc_source_v);
+void pmsm_set_brake_resistor(pmsm_model_t *m, int on);
+
+/* Electrical torque for the given state (used by tests). */
+double pmsm_torque(const pmsm_params_t *p, double id_a, double iq_a);
+
+#endif /* PMSM_MODEL_H */

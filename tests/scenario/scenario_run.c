@@ -1,0 +1,94 @@
+#include "scenario_run.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+void run_scenario(const char *text, foc_est_kind_t est, run_t *out)
+{
+    scn_t scn;
+    char err[256];
+    if (scn_parse_text(text, "test", &scn, err, sizeof err) != 0) {
+        fprintf(stderr, "scenario error: %s\n", err);
+        exit(2);
+    }
+    static sim_t sim;
+    const sim_options_t opt = { est, 1u };
+    if (sim_init(&sim, &opt, &scn, err, sizeof err) != 0) {
+        fprintf(stderr, "sim error: %s\n", err);
+        exit(2);
+    }
+    size_t cap = 1024;
+    out->rows = malloc(cap * sizeof *out->rows);
+    out->n = 0;
+    sim_row_t row;
+    while (out->rows != NULL && sim_step(&sim, &row)) {
+        if (out->n == cap) {
+            cap *= 2;
+            sim_row_t *grown = realloc(out->rows, cap * sizeof *grown);
+            if (grown == NULL) {
+                free(out->rows);
+                out->rows = NULL;
+                break;
+            }
+            out->rows = grown;
+        }
+        out->rows[out->n++] = row;
+    }
+    if (out->rows == NULL) {
+        fprintf(stderr, "out of memory\n");
+        exit(2);
+    }
+    out->closed_loop_time_s = sim.closed_loop_time_s;
+    out->peak_current_a = sim.peak_current_a;
+    out->final_state = sim.ctrl.state;
+    out->fault = sim.ctrl.faults.first;
+    scn_free(&scn);
+}
+
+void run_free(run_t *r)
+{
+    free(r->rows);
+    r->rows = NULL;
+    r->n = 0;
+}
+
+size_t run_index_at(const run_t *r, double t_s)
+{
+    size_t k = 0;
+    while (k < r->n && r->rows[k].t_s < t_s) {
+        k++;
+    }
+    return k;
+}
+
+double run_last_outside(const run_t *r, double t0, double t1, double target,
+                        double tol)
+{
+    double last = t0;
+    for (size_t k = run_index_at(r, t0); k < r->n && r->rows[k].t_s < t1; k++) {
+        if (fabs(r->rows[k].speed_rpm - target) > tol) {
+            last = r->rows[k].t_s;
+        }
+    }
+    return last;
+}
+
+double run_extreme_speed(const run_t *r, double t0, double t1, int below)
+{
+    double ext = below ? INFINITY : -INFINITY;
+    for (size_t k = run_index_at(r, t0); k < r->n && r->rows[k].t_s < t1; k++) {
+        const double v = r->rows[k].speed_rpm;
+        ext = below ? fmin(ext, v) : fmax(ext, v);
+    }
+    return ext;
+}
+
+double run_max_abs_id(const run_t *r, double t0, double t1)
+{
+    double m = 0.0;
+    for (size_t k = run_index_at(r, t0); k < r->n && r->rows[k].t_s < t1; k++) {
+        m = fmax(m, fabs(r->rows[k].id_a));
+    }
+    return m;
+}

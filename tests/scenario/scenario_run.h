@@ -1,0 +1,39 @@
+/*
+ * Runs a scenario in-process (the same sim loop focsim uses) and keeps
+ * every row, for tests that measure the closed-loop figures.
+ */
+#ifndef SCENARIO_RUN_H
+#define SCENARIO_RUN_H
+
+#include <stddef.h>
+
+#include "sim.h"
+
+typedef struct {
+    sim_row_t *rows;
+    size_t n;
+    double closed_loop_time_s;
+    double peak_current_a;
+    foc_state_t final_state;
+    uint16_t fault;
+} run_t;
+
+/* Parses and runs `text`; aborts the test program on a parse error. */
+void run_scenario(const char *text, foc_est_kind_t est, run_t *out);
+void run_free(run_t *r);
+
+/* Index of the first row at or after time t (n if none). */
+size_t run_index_at(const run_t *r, double t_s);
+
+/* Last time in [t0, t1) at which |speed - target| > tol, or t0 if never:
+ * the settling time is this minus the step time. */
+double run_last_outside(const run_t *r, double t0, double t1, double target,
+                        double tol);
+
+/* Largest speed in [t0, t1) (smallest when `below` is non-zero). */
+double run_extreme_speed(const run_t *r, double t0, double t1, int below);
+
+/* Largest |id| in [t0, t1). */
+double run_max_abs_id(const run_t *r, double t0, double t1);
+
+#endif /* SCENARIO_RUN_H */

@@ -1,0 +1,278 @@
+/*
+ * focsim: runs the real controller against the motor model.
+ *
+ *   focsim [--estimator sensored|pll|luenberger|flux] [--scenario FILE]
+ *          [--csv FILE] [--plot FILE.svg] [--seed N] [--decimate N]
+ *
+ * Without --scenario it runs tools/scenarios/default.scn.  Prints a summary
+ * of key=value lines at the end.  Exit status: 0 after a completed run,
+ * 1 on a usage, scenario or file error.
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sim.h"
+#include "svgplot.h"
+
+#ifndef FOCSIM_DEFAULT_SCENARIO
+#define FOCSIM_DEFAULT_SCENARIO "tools/scenarios/default.scn"
+#endif
+
+typedef struct {
+    const char *estimator;
+    const char *scenario;
+    const char *csv;
+    const char *plot;
+    unsigned long seed;
+    unsigned long decimate;
+} cli_t;
+
+/* What the plot needs, one entry per PWM period. */
+typedef struct {
+    size_t n, cap;
+    double *t, *speed_ref, *speed, *speed_est, *id, *iq, *id_ref, *iq_ref,
+        *angle_err;
+    const char **state;
+} trace_t;
+
+static void usage(FILE *f)
+{
+    fputs("usage: focsim [--estimator sensored|pll|luenberger|flux] "
+          "[--scenario FILE]\n"
+          "              [--csv FILE] [--plot FILE.svg] [--seed N] "
+          "[--decimate N]\n",
+          f);
+}
+
+static int parse_ulong(const char *s, unsigned long *out)
+{
+    char *end = NULL;
+    errno = 0;
+    const unsigned long v = strtoul(s, &end, 10);
+    if (errno != 0 || end == s || *end != '\0' || s[0] == '-') {
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+static int parse_cli(int argc, char **argv, cli_t *cli)
+{
+    cli->estimator = "sensored";
+    cli->scenario = FOCSIM_DEFAULT_SCENARIO;
+    cli->csv = NULL;
+    cli->plot = NULL;
+    cli->seed = 1;
+    cli->decimate = 1;
+    for (int i = 1; i < argc; i++) {
+        const char *opt = argv[i];
+        if (strcmp(opt, "--help") == 0 || strcmp(opt, "-h") == 0) {
+            usage(stdout);
+            exit(0);
+        }
+        if (i + 1 >= argc) {
+            fprintf(stderr, "focsim: %s needs a value\n", opt);
+            return -1;
+        }
+        const char *val = argv[++i];
+        if (strcmp(opt, "--estimator") == 0) {
+            cli->estimator = val;
+        } else if (strcmp(opt, "--scenario") == 0) {
+            cli->scenario = val;
+        } else if (strcmp(opt, "--csv") == 0) {
+            cli->csv = val;
+        } else if (strcmp(opt, "--plot") == 0) {
+            cli->plot = val;
+        } else if (strcmp(opt, "--seed") == 0) {
+            if (parse_ulong(val, &cli->seed) != 0 || cli->seed > 0xFFFFFFFFul) {
+                fprintf(stderr, "focsim: --seed takes a whole number 0..4294967295\n");
+                return -1;
+            }
+        } else if (strcmp(opt, "--decimate") == 0) {
+            if (parse_ulong(val, &cli->decimate) != 0 || cli->decimate == 0) {
+                fprintf(stderr, "focsim: --decimate takes a whole number >= 1\n");
+                return -1;
+            }
+        } else {
+            fprintf(stderr, "focsim: unknown option '%s'\n", opt);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+static double *grow(double *p, size_t cap)
+{
+    double *q = realloc(p, cap * sizeof *q);
+    if (q == NULL) {
+        fputs("focsim: out of memory\n", stderr);
+        exit(1);
+    }
+    return q;
+}
+
+static void trace_add(trace_t *tr, const sim_row_t *r)
+{
+    if (tr->n == tr->cap) {
+        tr->cap = tr->cap ? tr->cap * 2 : 65536;
+        double **cols[] = { &tr->t, &tr->speed_ref, &tr->speed, &tr->speed_est, &tr->id,
+                            &tr->iq, &tr->id_ref, &tr->iq_ref, &tr->angle_err };
+        for (size_t i = 0; i < sizeof cols / sizeof cols[0]; i++) {
+            *cols[i] = grow(*cols[i], tr->cap);
+        }
+        const char **st = realloc(tr->state, tr->cap * sizeof *st);
+        if (st == NULL) {
+            fputs("focsim: out of memory\n", stderr);
+            exit(1);
+        }
+        tr->state = st;
+    }
+    const size_t k = tr->n++;
+    tr->t[k] = r->t_s;
+    tr->speed_ref[k] = r->speed_ref_rpm;
+    tr->speed[k] = r->speed_rpm;
+    tr->speed_est[k] = r->speed_est_rpm;
+    tr->id[k] = r->id_a;
+    tr->iq[k] = r->iq_a;
+    tr->id_ref[k] = r->id_ref_a;
+    tr->iq_ref[k] = r->iq_ref_a;
+    tr->angle_err[k] = remainder(r->theta_est_deg - r->theta_e_deg, 360.0);
+    tr->state[k] = r->state;
+}
+
+static void trace_free(trace_t *tr)
+{
+    free(tr->t);
+    free(tr->speed_ref);
+    free(tr->speed);
+    free(tr->speed_est);
+    free(tr->id);
+    free(tr->iq);
+    free(tr->id_ref);
+    free(tr->iq_ref);
+    free(tr->angle_err);
+    free(tr->state);
+}
+
+/* One band per stretch of constant state. */
+static int write_plot(const char *path, const trace_t *tr, const char *estimator)
+{
+    svg_band_t *bands = malloc((tr->n ? tr->n : 1) * sizeof *bands);
+    size_t nb = 0;
+    if (bands == NULL) {
+        return -1;
+    }
+    for (size_t k = 0; k < tr->n; k++) {
+        if (nb == 0 || strcmp(bands[nb - 1].label, tr->state[k]) != 0) {
+            bands[nb].t0_s = tr->t[k];
+            bands[nb].label = tr->state[k];
+            nb++;
+        }
+        bands[nb - 1].t1_s = tr->t[k];
+    }
+    const svg_series_t speed[] = {
+        { "reference", "#888888", tr->speed_ref },
+        { "true", "#1f77b4", tr->speed },
+        { "estimated", "#d62728", tr->speed_est },
+    };
+    const svg_series_t currents[] = {
+        { "id", "#2ca02c", tr->id },      { "iq", "#9467bd", tr->iq },
+        { "id ref", "#98df8a", tr->id_ref }, { "iq ref", "#c5b0d5", tr->iq_ref },
+    };
+    const svg_series_t angle[] = { { "estimated - true", "#ff7f0e", tr->angle_err } };
+    const svg_panel_t panels[] = {
+        { "Speed (mechanical)", "rpm", speed, 3 },
+        { "Rotor-frame currents", "A", currents, 4 },
+        { "Angle error (electrical)", "deg", angle, 1 },
+    };
+    char title[128];
+    snprintf(title, sizeof title, "focsim: estimator %s", estimator);
+    const int rc = svg_write(path, title, tr->t, tr->n, panels, 3, bands, nb);
+    free(bands);
+    return rc;
+}
+
+static void print_summary(const sim_t *s, const sim_row_t *last, const char *est)
+{
+    printf("estimator=%s\n", est);
+    printf("final_state=%s\n", foc_state_name(s->ctrl.state));
+    printf("fault=%s\n", foc_fault_name(s->ctrl.faults.first));
+    printf("closed_loop_time_s=%.4f\n", s->closed_loop_time_s);
+    printf("speed_rpm_final=%.2f\n", last->speed_rpm);
+    printf("speed_ref_rpm_final=%.2f\n", last->speed_ref_rpm);
+    printf("speed_est_rpm_final=%.2f\n", last->speed_est_rpm);
+    printf("peak_current_a=%.4f\n", s->peak_current_a);
+    printf("sim_time_s=%.4f\n", last->t_s);
+}
+
+int main(int argc, char **argv)
+{
+    cli_t cli;
+    if (parse_cli(argc, argv, &cli) != 0) {
+        usage(stderr);
+        return 1;
+    }
+    sim_options_t opt;
+    if (sim_estimator_from_name(cli.estimator, &opt.estimator) != 0) {
+        fprintf(stderr, "focsim: unknown estimator '%s'\n", cli.estimator);
+        usage(stderr);
+        return 1;
+    }
+    opt.seed = (uint32_t)cli.seed;
+
+    scn_t scn;
+    char err[512];
+    if (scn_parse_file(cli.scenario, &scn, err, sizeof err) != 0) {
+        fprintf(stderr, "focsim: %s\n", err);
+        return 1;
+    }
+    static sim_t sim;
+    if (sim_init(&sim, &opt, &scn, err, sizeof err) != 0) {
+        fprintf(stderr, "focsim: %s\n", err);
+        scn_free(&scn);
+        return 1;
+    }
+
+    FILE *csv = NULL;
+    if (cli.csv != NULL) {
+        csv = fopen(cli.csv, "w");
+        if (csv == NULL) {
+            fprintf(stderr, "focsim: cannot write %s: %s\n", cli.csv, strerror(errno));
+            scn_free(&scn);
+            return 1;
+        }
+        fprintf(csv, "%s\n", sim_csv_header());
+    }
+
+    trace_t tr = { 0 };
+    sim_row_t row, last = { 0 };
+    char line[512];
+    while (sim_step(&sim, &row)) {
+        const uint64_t index = sim.period - 1u; /* the period just simulated */
+        if (csv != NULL && index % cli.decimate == 0u) {
+            sim_csv_row(&row, line, sizeof line);
+            fprintf(csv, "%s\n", line);
+        }
+        if (cli.plot != NULL) {
+            trace_add(&tr, &row);
+        }
+        last = row;
+    }
+
+    int rc = 0;
+    if (csv != NULL && fclose(csv) != 0) {
+        fprintf(stderr, "focsim: error writing %s\n", cli.csv);
+        rc = 1;
+    }
+    if (cli.plot != NULL && write_plot(cli.plot, &tr, cli.estimator) != 0) {
+        fprintf(stderr, "focsim: cannot write %s\n", cli.plot);
+        rc = 1;
+    }
+    print_summary(&sim, &last, cli.estimator);
+    trace_free(&tr);
+    scn_free(&scn);
+    return rc;
+}

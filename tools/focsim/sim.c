@@ -1,0 +1,197 @@
+#include "sim.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "foc/config.h"
+#include "host_port.h"
+
+#define RAD_S_PER_KRPM (1000.0 * 2.0 * M_PI / 60.0)
+
+double sim_rpm_from_q15(q15_t speed)
+{
+    return speed * (SPEED_BASE_RPM / 32768.0);
+}
+
+q15_t sim_q15_from_rpm(double rpm)
+{
+    const double q = rpm / SPEED_BASE_RPM * 32768.0;
+    return foc_sat_q15((int32_t)lround(fmax(-40000.0, fmin(40000.0, q))));
+}
+
+int sim_estimator_from_name(const char *name, foc_est_kind_t *kind)
+{
+    static const foc_est_kind_t kinds[] = {
+        FOC_EST_SENSORED, FOC_EST_PLL, FOC_EST_LUENBERGER, FOC_EST_FLUX,
+    };
+    for (size_t i = 0; i < sizeof kinds / sizeof kinds[0]; i++) {
+        if (strcmp(name, foc_est_name(kinds[i])) == 0) {
+            *kind = kinds[i];
+            return 0;
+        }
+    }
+    return -1;
+}
+
+/* The plant as userparms.h describes it. */
+static void plant_from_userparms(pmsm_params_t *p, uint32_t seed)
+{
+    pmsm_default_params(p);
+    p->rs_ohm = MOTOR_RS_OHM;
+    p->ld_h = MOTOR_LD_H;
+    p->lq_h = MOTOR_LQ_H;
+    p->flux_wb = FOC_FLUX_WB;
+    p->pole_pairs = MOTOR_POLE_PAIRS;
+    p->j_kgm2 = MOTOR_INERTIA_KGM2;
+    p->b_nm_per_rad_s = MOTOR_VISCOUS_NM_PER_KRPM / RAD_S_PER_KRPM;
+    p->coulomb_nm = MOTOR_COULOMB_NM;
+    p->pwm_hz = PWM_FREQUENCY_HZ;
+    p->deadtime_s = 0.0;
+    p->vdc_source_v = BOARD_VDC_NOMINAL_V;
+    p->adc_bits = BOARD_ADC_BITS;
+    p->current_fs_a = BOARD_CURRENT_FULL_SCALE_A;
+    p->seed = seed;
+}
+
+int sim_init(sim_t *s, const sim_options_t *o, const scn_t *scn, char *err,
+             size_t errlen)
+{
+    pmsm_params_t p;
+    plant_from_userparms(&p, o->seed);
+    pmsm_init(&s->model, &p);
+    host_port_attach(&s->model);
+    foc_init(&s->ctrl);
+    if (foc_est_select(&s->ctrl.est, o->estimator) != 0) {
+        snprintf(err, errlen, "estimator '%s' is not available yet",
+                 foc_est_name(o->estimator));
+        return -1;
+    }
+    s->scn = scn;
+    s->next_event = 0;
+    s->period = 0;
+    s->t_s = 0.0;
+    s->closed_loop_time_s = -1.0;
+    s->peak_current_a = 0.0;
+    return 0;
+}
+
+static void set_plant(pmsm_model_t *m, scn_plant_t which, double v)
+{
+    switch (which) {
+    case SCN_PLANT_RS: m->p.rs_ohm = v; break;
+    case SCN_PLANT_LD: m->p.ld_h = v; break;
+    case SCN_PLANT_LQ: m->p.lq_h = v; break;
+    case SCN_PLANT_FLUX: m->p.flux_wb = v; break;
+    case SCN_PLANT_J: m->p.j_kgm2 = v; break;
+    case SCN_PLANT_B: m->p.b_nm_per_rad_s = v; break;
+    case SCN_PLANT_DEADTIME: m->p.deadtime_s = v; break;
+    case SCN_PLANT_NOISE: m->p.noise_codes = v; break;
+    }
+}
+
+static void apply_event(sim_t *s, const scn_event_t *e)
+{
+    host_port_t *port = host_port();
+    switch (e->kind) {
+    case SCN_START: foc_cmd_start(&s->ctrl); break;
+    case SCN_STOP: foc_cmd_stop(&s->ctrl); break;
+    case SCN_SPEED: foc_cmd_speed(&s->ctrl, sim_q15_from_rpm(e->value)); break;
+    case SCN_LOAD: pmsm_set_load(&s->model, e->value); break;
+    case SCN_LOCK: pmsm_set_rotor_mode(&s->model, PMSM_ROTOR_LOCKED, 0.0); break;
+    case SCN_UNLOCK: pmsm_set_rotor_mode(&s->model, PMSM_ROTOR_FREE, 0.0); break;
+    case SCN_VDC: pmsm_set_vdc(&s->model, e->value); break;
+    case SCN_TEMP: port->temp_degc = e->value; break;
+    case SCN_OVERCURRENT: port->fault_input = 1; break;
+    case SCN_ACK: foc_cmd_ack(&s->ctrl); break;
+    case SCN_ANGLE: pmsm_set_rotor_angle(&s->model, e->value * M_PI / 180.0); break;
+    case SCN_SPIN: pmsm_set_rotor_mode(&s->model, PMSM_ROTOR_SPIN, e->value); break;
+    case SCN_PLANT: set_plant(&s->model, e->plant, e->value); break;
+    case SCN_END: break;
+    }
+}
+
+static double wrap_deg(double deg)
+{
+    double d = fmod(deg, 360.0);
+    return d < 0.0 ? d + 360.0 : d;
+}
+
+static void fill_row(const sim_t *s, const pmsm_sample_t *m, sim_row_t *r)
+{
+    const foc_ctrl_t *c = &s->ctrl;
+    const double i_base = FOC_I_BASE_A / 32768.0;
+    const double v_base = FOC_V_BASE_V / 32768.0;
+    const double th = m->theta_e_rad;
+    r->t_s = s->t_s;
+    r->state = foc_state_name(c->state);
+    r->fault = foc_fault_name(c->faults.first);
+    r->speed_ref_rpm = sim_rpm_from_q15(c->speed_ctrl.ramped);
+    r->speed_rpm = m->speed_rpm;
+    r->speed_est_rpm = sim_rpm_from_q15(c->est.speed);
+    r->theta_e_deg = wrap_deg(th * 180.0 / M_PI);
+    r->theta_est_deg = c->est.theta * (360.0 / 65536.0);
+    /* true rotor-frame currents from the true phase currents */
+    const double alpha = m->ia_a;
+    const double beta = (m->ia_a + 2.0 * m->ib_a) / sqrt(3.0);
+    r->id_a = alpha * cos(th) + beta * sin(th);
+    r->iq_a = -alpha * sin(th) + beta * cos(th);
+    r->id_ref_a = c->i_ref.d * i_base;
+    r->iq_ref_a = c->i_ref.q * i_base;
+    r->vd_v = c->v_dq.d * v_base;
+    r->vq_v = c->v_dq.q * v_base;
+    r->vdc_v = m->vdc_v;
+    r->torque_nm = m->torque_nm;
+    r->ia_a = m->ia_a;
+    r->ib_a = m->ib_a;
+    r->ic_a = m->ic_a;
+}
+
+int sim_step(sim_t *s, sim_row_t *row)
+{
+    if (s->t_s > s->scn->end_s) {
+        return 0;
+    }
+    host_port_t *port = host_port();
+    while (s->next_event < s->scn->count &&
+           s->scn->events[s->next_event].t_s <= s->t_s) {
+        apply_event(s, &s->scn->events[s->next_event]);
+        s->next_event++;
+    }
+
+    foc_fast_step(&s->ctrl);
+    port->fault_input = 0; /* the `overcurrent` event is a pulse; the latch holds */
+    if (s->period % CONTROL_SLOW_DIVIDER == 0u) {
+        foc_slow_step(&s->ctrl);
+    }
+    if (s->closed_loop_time_s < 0.0 && s->ctrl.state == FOC_STATE_RUN) {
+        s->closed_loop_time_s = s->t_s;
+    }
+
+    fill_row(s, &port->last_sample, row);
+    const double i_peak = fmax(fabs(row->ia_a), fmax(fabs(row->ib_a), fabs(row->ic_a)));
+    s->peak_current_a = fmax(s->peak_current_a, i_peak);
+
+    pmsm_step_period(&s->model);
+    s->period++;
+    s->t_s = (double)s->period / PWM_FREQUENCY_HZ;
+    return 1;
+}
+
+const char *sim_csv_header(void)
+{
+    return "t_s,state,fault,speed_ref_rpm,speed_rpm,speed_est_rpm,theta_e_deg,"
+           "theta_est_deg,id_a,iq_a,id_ref_a,iq_ref_a,vd_v,vq_v,vdc_v,torque_nm,"
+           "ia_a,ib_a,ic_a";
+}
+
+void sim_csv_row(const sim_row_t *r, char *buf, size_t len)
+{
+    snprintf(buf, len,
+             "%.6f,%s,%s,%.2f,%.2f,%.2f,%.2f,%.2f,%.4f,%.4f,%.4f,%.4f,%.3f,%.3f,"
+             "%.3f,%.5f,%.4f,%.4f,%.4f",
+             r->t_s, r->state, r->fault, r->speed_ref_rpm, r->speed_rpm,
+             r->speed_est_rpm, r->theta_e_deg, r->theta_est_deg, r->id_a, r->iq_a,
+             r->id_ref_a, r->iq_ref_a, r->vd_v, r->vq_v, r->vdc_v, r->torque_nm,
+             r->ia_a, r->ib_a, r->ic_a);
+}

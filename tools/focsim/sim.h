@@ -1,0 +1,74 @@
+/*
+ * One simulation: the real controller (core + host port) against the motor
+ * model, driven by a scenario.  focsim is a command-line wrapper around it;
+ * the scenario tests call it in-process.
+ *
+ * Each sim_step() is one PWM period k at time t_k = k / f_pwm:
+ *   1. scenario events with time <= t_k are applied;
+ *   2. the fast step runs (samples at t_k, duties for period k+1);
+ *   3. every CONTROL_SLOW_DIVIDER periods the slow step runs after it (a
+ *      lower-priority interrupt);
+ *   4. the row for t_k is filled;
+ *   5. the model integrates period k.
+ *
+ * The plant starts with the motor of userparms.h (the controller's belief);
+ * `plant` commands make it differ.  Its inverter is ideal unless a
+ * `plant deadtime` command sets one.
+ */
+#ifndef FOCSIM_SIM_H
+#define FOCSIM_SIM_H
+
+#include <stdint.h>
+
+#include "foc/controller.h"
+#include "pmsm_model.h"
+#include "scenario.h"
+
+typedef struct {
+    foc_est_kind_t estimator;
+    uint32_t seed;
+} sim_options_t;
+
+/* One CSV row; names and units as in the CSV header (sim_csv_header). */
+typedef struct {
+    double t_s;
+    const char *state;
+    const char *fault;
+    double speed_ref_rpm, speed_rpm, speed_est_rpm;
+    double theta_e_deg, theta_est_deg;
+    double id_a, iq_a, id_ref_a, iq_ref_a;
+    double vd_v, vq_v, vdc_v, torque_nm;
+    double ia_a, ib_a, ic_a;
+} sim_row_t;
+
+typedef struct {
+    pmsm_model_t model;
+    foc_ctrl_t ctrl;
+    const scn_t *scn;
+    size_t next_event;
+    uint64_t period;
+    double t_s;
+    double closed_loop_time_s;  /* first entry into RUN, -1 if never */
+    double peak_current_a;      /* largest true |phase current| seen */
+} sim_t;
+
+/* Sets up model, port and controller; 0, or -1 with a message. */
+int sim_init(sim_t *s, const sim_options_t *o, const scn_t *scn, char *err,
+             size_t errlen);
+
+/* One PWM period; returns 1 while the scenario has not ended, 0 after the
+ * last period (row not filled then). */
+int sim_step(sim_t *s, sim_row_t *row);
+
+/* The CSV header line (no newline) and one row in the same column order. */
+const char *sim_csv_header(void);
+void sim_csv_row(const sim_row_t *r, char *buf, size_t len);
+
+/* Parses "sensored|pll|luenberger|flux"; -1 if unknown. */
+int sim_estimator_from_name(const char *name, foc_est_kind_t *kind);
+
+/* Q15 speed to mechanical rpm and back (saturating). */
+double sim_rpm_from_q15(q15_t speed);
+q15_t sim_q15_from_rpm(double rpm);
+
+#endif /* FOCSIM_SIM_H */
