@@ -23,6 +23,7 @@ static void outputs_off(foc_ctrl_t *c)
     foc_port_pwm_disable();
     c->v_dq = zero_dq;
     c->v_ab = zero_ab;
+    c->v_ab_prev = zero_ab;
     c->i_ref = zero_dq;
 }
 
@@ -47,11 +48,11 @@ void foc_init(foc_ctrl_t *c)
     foc_cc_init(&c->current_ctrl);
     foc_sc_init(&c->speed_ctrl);
     foc_bus_init(&c->bus, FOC_VDC_NOMINAL);
-    c->est.kind = FOC_EST_SENSORED;
+    c->est.kind = FOC_ESTIMATOR;
     c->samples.theta_sensor = 0;
-    const foc_est_input_t rest = { zero_ab, zero_ab, 0 };
-    foc_est_reset(&c->est, &rest);
     outputs_off(c);
+    const foc_est_input_t rest = { zero_ab, zero_ab, 0, 0 };
+    foc_est_reset(&c->est, &rest, 1);
     enter(c, FOC_STATE_IDLE);
 }
 
@@ -60,8 +61,12 @@ static void current_loop(foc_ctrl_t *c)
 {
     c->i_ab = foc_cs_alphabeta(&c->current_sense, &c->samples);
 
-    const foc_est_input_t in = { c->v_ab, c->i_ab, c->samples.theta_sensor };
+    /* The voltage applied in the period that just ended was computed two
+     * steps ago (the PWM unit applies duties one period late). */
+    const foc_est_input_t in = { c->v_ab_prev, c->i_ab, c->i_ref.q,
+                                 c->samples.theta_sensor };
     foc_est_step(&c->est, &in);
+    c->v_ab_prev = c->v_ab;
 
     c->i_dq = foc_park_q15(c->i_ab, foc_sincos_q15(c->est.theta));
     c->v_dq = foc_cc_step(&c->current_ctrl, c->i_ref, c->i_dq, c->bus.v_max);
@@ -98,12 +103,13 @@ void foc_fast_step(foc_ctrl_t *c)
  * voltage, then the state changes (the fast step runs the loop from then). */
 static void start_run(foc_ctrl_t *c)
 {
-    const foc_est_input_t in = { zero_ab, zero_ab, c->samples.theta_sensor };
-    foc_est_reset(&c->est, &in);
+    const foc_est_input_t in = { zero_ab, zero_ab, 0, c->samples.theta_sensor };
+    foc_est_reset(&c->est, &in, 1);
     foc_cc_reset(&c->current_ctrl);
     foc_sc_preset(&c->speed_ctrl, c->est.speed, 0);
     c->i_ref = zero_dq;
     c->v_ab = zero_ab;
+    c->v_ab_prev = zero_ab;
     c->duty = half_duty;
     foc_port_set_duties(&c->duty);
     foc_port_pwm_enable();
@@ -129,6 +135,11 @@ static void state_machine(foc_ctrl_t *c)
         }
         break;
     case FOC_STATE_RUN:
+        /* Sensored start: hand over to the estimator above a speed. */
+        if (c->est.use_sensor != 0u && c->est.kind != FOC_EST_SENSORED &&
+            foc_abs_q15(c->est.speed) >= FOC_SENSORED_HANDOVER_SPEED) {
+            c->est.use_sensor = 0;
+        }
         c->speed_ctrl.target = c->req.speed;
         c->i_ref.q = foc_sc_step(&c->speed_ctrl, c->est.speed, c->i_ref.d);
         if (c->req.stop != 0u) {

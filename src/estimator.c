@@ -1,30 +1,55 @@
 #include "foc/estimator.h"
+#include "foc/lpf.h"
 
 int foc_est_select(foc_estimator_t *est, foc_est_kind_t kind)
 {
-    if (kind != FOC_EST_SENSORED) {
-        return -1; /* the sensorless estimators are not built yet */
+    if (kind != FOC_EST_SENSORED && kind != FOC_EST_PLL) {
+        return -1; /* not built yet */
     }
     est->kind = kind;
     return 0;
 }
 
-void foc_est_reset(foc_estimator_t *est, const foc_est_input_t *in)
+static void publish(foc_estimator_t *est)
 {
+    if (est->kind == FOC_EST_PLL) {
+        est->est_theta = est->pll.theta;
+        est->est_speed = foc_pll_speed(&est->pll);
+    } else {
+        est->est_theta = est->sensored.theta;
+        est->est_speed = foc_lpf_out(&est->sensored.speed);
+    }
+    if (est->use_sensor != 0u) {
+        est->theta = est->sensored.theta;
+        est->speed = foc_lpf_out(&est->sensored.speed);
+    } else {
+        est->theta = est->est_theta;
+        est->speed = est->est_speed;
+    }
+}
+
+void foc_est_reset(foc_estimator_t *est, const foc_est_input_t *in, uint8_t use_sensor)
+{
+    est->use_sensor = (uint8_t)(use_sensor != 0u || est->kind == FOC_EST_SENSORED);
     foc_sensored_reset(&est->sensored, in->theta_sensor);
-    est->theta = est->sensored.theta;
-    est->speed = 0;
+    foc_pll_init(&est->pll);
+    foc_pll_reset(&est->pll, 0, 0, in->i_ab);
+    publish(est);
 }
 
 void foc_est_step(foc_estimator_t *est, const foc_est_input_t *in)
 {
-    foc_sensored_step(&est->sensored, in->theta_sensor);
-    est->theta = est->sensored.theta;
-    est->speed = foc_lpf_out(&est->sensored.speed);
+    if (est->use_sensor != 0u) {
+        foc_sensored_step(&est->sensored, in->theta_sensor);
+    }
+    if (est->kind == FOC_EST_PLL) {
+        foc_pll_step(&est->pll, in->v_ab, in->i_ab);
+    }
+    publish(est);
 }
 
 const char *foc_est_name(foc_est_kind_t kind)
 {
     static const char *const names[] = { "sensored", "pll", "luenberger", "flux" };
-    return names[kind];
+    return ((unsigned)kind < sizeof names / sizeof names[0]) ? names[kind] : "?";
 }

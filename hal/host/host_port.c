@@ -77,7 +77,7 @@ void foc_port_read_samples(foc_samples_t *s)
     s->temp = unipolar_to_q15((BOARD_TEMP_V_AT_0C + BOARD_TEMP_V_PER_DEGC * port.temp_degc) /
                               BOARD_ADC_VREF_V);
     s->pot = unipolar_to_q15(port.pot_fraction);
-    s->theta_sensor = (uint16_t)((uint32_t)(m.theta_e_rad * (65536.0 / (2.0 * M_PI))) & 0xFFFFu);
+    s->theta_sensor = (uint16_t)((uint32_t)(m.theta_e_rad * (65536.0 / (2.0 * FOC_PI_D))) & 0xFFFFu);
 }
 
 void foc_port_set_duties(const foc_duty_t *d)

@@ -102,6 +102,40 @@
 #define FOC_DTHETA_TO_SPEED_MANT FOC_GAIN_MANT(FOC_DTHETA_TO_SPEED_PU)
 #define FOC_DTHETA_TO_SPEED_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_DTHETA_TO_SPEED_PU))
 
+/* Angle accumulator (uint32_t, 2^32 = 360 deg): increment per PWM period
+ * per Q15 speed count.  Rounding error below 0.02 % for any base speed that
+ * passes the 90-degrees-per-period check. */
+#define FOC_THETA32_PER_SPEED ((int32_t)(2.0 * FOC_DTHETA_AT_BASE + 0.5))
+/* Angle turned in half a PWM period at speed 1.0, as a Q15 gain (< 0.25). */
+#define FOC_HALF_PERIOD_ANGLE Q15(0.5 * FOC_DTHETA_AT_BASE / 32768.0)
+
+/* ------------------------------------------------- machine constants -- */
+/* Per-unit winding resistance, inductance per PWM period and back-EMF per
+ * unit speed (the normalisation of AN1292 equations 5 and 6 in our bases). */
+#define FOC_RS_PU (MOTOR_RS_OHM * FOC_I_BASE_A / FOC_V_BASE_V)
+#define FOC_LS_DT_PU (MOTOR_LQ_H * FOC_I_BASE_A / (FOC_V_BASE_V * FOC_TS_S))
+#define FOC_KFI_PU (FOC_FLUX_WB * FOC_WE_BASE_RAD_S / FOC_V_BASE_V)
+#define FOC_INV_KFI_PU (1.0 / FOC_KFI_PU)
+/* Largest current change in one period the winding allows (full voltage
+ * across Ls), Q15 of the current base: the di/dt limit of the estimator. */
+#define FOC_DI_MAX Q15(FOC_V_BASE_V * FOC_TS_S / MOTOR_LQ_H / FOC_I_BASE_A)
+
+/* -------------------------------------------------- PLL estimator -- */
+#define FOC_PLL_RS_MANT FOC_GAIN_MANT(FOC_RS_PU)
+#define FOC_PLL_RS_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_RS_PU))
+/* Ls/dt with room for the field-weakening scale up to 2x nominal. */
+#define FOC_PLL_LSDT_SHIFT ((uint8_t)FOC_GAIN_SHIFT(2.0 * FOC_LS_DT_PU))
+#define FOC_PLL_LSDT_MANT Q15(FOC_LS_DT_PU / (double)(1L << FOC_PLL_LSDT_SHIFT))
+/* 1/KFi with room for the field-weakening table up to 4x nominal. */
+#define FOC_PLL_INVKFI_SHIFT ((uint8_t)FOC_GAIN_SHIFT(4.0 * FOC_INV_KFI_PU))
+#define FOC_PLL_INVKFI Q15(FOC_INV_KFI_PU / (double)(1L << FOC_PLL_INVKFI_SHIFT))
+#define FOC_PLL_KFI_MANT FOC_GAIN_MANT(FOC_KFI_PU)
+#define FOC_PLL_KFI_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_KFI_PU))
+#define FOC_PLL_EMF_FILTER_K Q15(FOC_TS_S / (PLL_EMF_FILTER_TIME_S + FOC_TS_S))
+#define FOC_PLL_SPEED_FILTER_K Q15(FOC_TS_S / (PLL_SPEED_FILTER_TIME_S + FOC_TS_S))
+#define FOC_PLL_LOW_SPEED FOC_SPEED_Q15(PLL_LOW_SPEED_RPM)
+#define FOC_SENSORED_HANDOVER_SPEED FOC_SPEED_Q15(SENSORED_HANDOVER_RPM)
+
 /* -------------------------------------------------------------- bus -- */
 /* Nominal bus in bus-ADC counts; the modulation compensation is
  * Vdc_nominal / Vdc_measured in Q14 (up to 2.0). */
@@ -148,6 +182,16 @@ FOC_STATIC_ASSERT(CALIB_TIME_S / FOC_SLOW_TS_S < 65535.0 &&
                   CALIB_TIME_S * PWM_FREQUENCY_HZ >= 1024.0,
                   "CALIB_TIME_S must cover at least 1024 PWM periods");
 FOC_STATIC_ASSERT(SPEED_FILTER_TIME_S >= 0.0, "SPEED_FILTER_TIME_S must be >= 0");
+FOC_STATIC_ASSERT(FOC_RS_PU < 32768.0, "MOTOR_RS_OHM too high for the per-unit format");
+FOC_STATIC_ASSERT(2.0 * FOC_LS_DT_PU < 32768.0,
+                  "MOTOR_LQ_H too high for the per-unit format at PWM_FREQUENCY_HZ");
+FOC_STATIC_ASSERT(FOC_KFI_PU > 1.0 / 8192.0 && 4.0 * FOC_INV_KFI_PU < 32768.0,
+                  "MOTOR_KE_VPK_PER_KRPM too low for SPEED_BASE_RPM and the bus voltage");
+FOC_STATIC_ASSERT(FOC_KFI_PU < 32768.0, "MOTOR_KE_VPK_PER_KRPM too high");
+FOC_STATIC_ASSERT(PLL_EMF_FILTER_TIME_S >= 0.0 && PLL_SPEED_FILTER_TIME_S >= 0.0,
+                  "PLL filter time constants must be >= 0");
+FOC_STATIC_ASSERT(PLL_LOW_SPEED_RPM >= 0.0 && PLL_LOW_SPEED_RPM < SPEED_BASE_RPM,
+                  "PLL_LOW_SPEED_RPM out of range");
 FOC_STATIC_ASSERT(STOP_SPEED_RPM >= 0.0 && STOP_SPEED_RPM < SPEED_BASE_RPM,
                   "STOP_SPEED_RPM out of range");
 

@@ -65,7 +65,9 @@ typedef struct {
     foc_dq_t i_dq;
     foc_dq_t i_ref;       /* written by the slow step */
     foc_dq_t v_dq;        /* voltage command, Q15 of the voltage base */
-    foc_ab_t v_ab;        /* the same in the stator frame */
+    foc_ab_t v_ab;        /* the same in the stator frame: applied during */
+                          /* the next period */
+    foc_ab_t v_ab_prev;   /* computed one step earlier: being applied now */
     foc_duty_t duty;
 
     foc_current_sense_t current_sense;

@@ -3,11 +3,17 @@
  * (reference for tests) or a sensorless estimator.  The controller calls
  * foc_est_step() once per PWM period with the currents just measured and
  * the voltage applied during the period that just ended.
+ *
+ * Two outputs: `theta`/`speed` are what the controller uses; `est_theta`/
+ * `est_speed` are the selected estimator's own figures (equal to the first
+ * pair once closed loop runs on the estimator; during a sensored start they
+ * show the estimator converging while the sensor drives).
  */
 #ifndef FOC_ESTIMATOR_H
 #define FOC_ESTIMATOR_H
 
 #include <stdint.h>
+#include "foc/pll_est.h"
 #include "foc/sensored.h"
 #include "foc/transforms.h"
 
@@ -21,24 +27,30 @@ typedef enum {
 typedef struct {
     foc_ab_t v_ab;          /* voltage applied in the last period, Q15 */
     foc_ab_t i_ab;          /* current measured now, Q15 */
+    q15_t iq_ref;           /* torque command (current), Q15 */
     uint16_t theta_sensor;  /* position sensor, if any */
 } foc_est_input_t;
 
 typedef struct {
     foc_est_kind_t kind;
-    uint16_t theta;         /* electrical angle, 65536 = 360 deg */
-    q15_t speed;            /* Q15 of SPEED_BASE_RPM, signed */
+    uint8_t use_sensor;     /* 1: the controller runs on the sensor */
+    uint16_t theta;         /* used by the controller, 65536 = 360 deg */
+    q15_t speed;            /* used by the controller, Q15 of SPEED_BASE_RPM */
+    uint16_t est_theta;     /* the selected estimator's own estimate */
+    q15_t est_speed;
     foc_sensored_t sensored;
+    foc_pll_t pll;
 } foc_estimator_t;
 
-/* Chooses the source; returns 0, or -1 if that kind is not available
- * (the kind is then left unchanged). */
+/* Selects the estimator (kept over resets); 0, or -1 if that kind is not
+ * available (the selection is then unchanged). */
 int foc_est_select(foc_estimator_t *est, foc_est_kind_t kind);
 
-/* Restarts the selected source (before closing the loop on it). */
-void foc_est_reset(foc_estimator_t *est, const foc_est_input_t *in);
+/* Restarts the estimator from angle 0 and standstill, as after power-up
+ * with the rotor position unknown; `use_sensor` chooses the source. */
+void foc_est_reset(foc_estimator_t *est, const foc_est_input_t *in, uint8_t use_sensor);
 
-/* One PWM period; updates theta and speed. */
+/* One PWM period; updates all outputs. */
 void foc_est_step(foc_estimator_t *est, const foc_est_input_t *in);
 
 /* "sensored", "pll", "luenberger", "flux". */

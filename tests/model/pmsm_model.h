@@ -28,9 +28,11 @@
  *
  * DC bus: an ideal source of `vdc_source` V.  If `bus_cap_f` > 0 the bus is
  * a capacitor fed from the source through a diode (the source can only
- * deliver current), so regenerated energy raises the bus voltage; a brake
- * resistor `brake_r_ohm` across the bus can be switched on.  With
- * bus_cap_f = 0 the bus is stiff at vdc_source.
+ * deliver current) and 0.05 ohm (raised to 2 substeps / bus_cap_f for small
+ * capacitors, to keep the integration stable), so regenerated energy
+ * raises the bus voltage; a brake resistor `brake_r_ohm` across the bus can
+ * be switched on.  With bus_cap_f = 0 the bus is stiff at vdc_source (and
+ * the brake resistor has no effect).
  *
  * Current sensing: the value of each phase current at the sampling instant
  * (start of the period, the centre of the low-side on-time), converted by an

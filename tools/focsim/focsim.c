@@ -4,7 +4,8 @@
  *   focsim [--estimator sensored|pll|luenberger|flux] [--scenario FILE]
  *          [--csv FILE] [--plot FILE.svg] [--seed N] [--decimate N]
  *
- * Without --scenario it runs tools/scenarios/default.scn.  Prints a summary
+ * Without --estimator it uses the one userparms.h selects (FOC_ESTIMATOR);
+ * without --scenario it runs tools/scenarios/default.scn.  Prints a summary
  * of key=value lines at the end.  Exit status: 0 after a completed run,
  * 1 on a usage, scenario or file error.
  */
@@ -14,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "foc/config.h"
 #include "sim.h"
 #include "svgplot.h"
 
@@ -61,7 +63,7 @@ static int parse_ulong(const char *s, unsigned long *out)
 
 static int parse_cli(int argc, char **argv, cli_t *cli)
 {
-    cli->estimator = "sensored";
+    cli->estimator = NULL; /* userparms.h's FOC_ESTIMATOR */
     cli->scenario = FOCSIM_DEFAULT_SCENARIO;
     cli->csv = NULL;
     cli->plot = NULL;
@@ -215,8 +217,10 @@ int main(int argc, char **argv)
         usage(stderr);
         return 1;
     }
-    sim_options_t opt;
-    if (sim_estimator_from_name(cli.estimator, &opt.estimator) != 0) {
+    sim_options_t opt = { FOC_ESTIMATOR, 0 };
+    if (cli.estimator == NULL) {
+        cli.estimator = foc_est_name(opt.estimator);
+    } else if (sim_estimator_from_name(cli.estimator, &opt.estimator) != 0) {
         fprintf(stderr, "focsim: unknown estimator '%s'\n", cli.estimator);
         usage(stderr);
         return 1;

@@ -7,7 +7,7 @@
 #include "foc/config.h"
 #include "host_port.h"
 
-#define RAD_S_PER_KRPM (1000.0 * 2.0 * M_PI / 60.0)
+#define RAD_S_PER_KRPM (1000.0 * 2.0 * FOC_PI_D / 60.0)
 
 double sim_rpm_from_q15(q15_t speed)
 {
@@ -104,7 +104,7 @@ static void apply_event(sim_t *s, const scn_event_t *e)
     case SCN_TEMP: port->temp_degc = e->value; break;
     case SCN_OVERCURRENT: port->fault_input = 1; break;
     case SCN_ACK: foc_cmd_ack(&s->ctrl); break;
-    case SCN_ANGLE: pmsm_set_rotor_angle(&s->model, e->value * M_PI / 180.0); break;
+    case SCN_ANGLE: pmsm_set_rotor_angle(&s->model, e->value * FOC_PI_D / 180.0); break;
     case SCN_SPIN: pmsm_set_rotor_mode(&s->model, PMSM_ROTOR_SPIN, e->value); break;
     case SCN_PLANT: set_plant(&s->model, e->plant, e->value); break;
     case SCN_END: break;
@@ -128,9 +128,9 @@ static void fill_row(const sim_t *s, const pmsm_sample_t *m, sim_row_t *r)
     r->fault = foc_fault_name(c->faults.first);
     r->speed_ref_rpm = sim_rpm_from_q15(c->speed_ctrl.ramped);
     r->speed_rpm = m->speed_rpm;
-    r->speed_est_rpm = sim_rpm_from_q15(c->est.speed);
-    r->theta_e_deg = wrap_deg(th * 180.0 / M_PI);
-    r->theta_est_deg = c->est.theta * (360.0 / 65536.0);
+    r->speed_est_rpm = sim_rpm_from_q15(c->est.est_speed);
+    r->theta_e_deg = wrap_deg(th * 180.0 / FOC_PI_D);
+    r->theta_est_deg = c->est.est_theta * (360.0 / 65536.0);
     /* true rotor-frame currents from the true phase currents */
     const double alpha = m->ia_a;
     const double beta = (m->ia_a + 2.0 * m->ib_a) / sqrt(3.0);

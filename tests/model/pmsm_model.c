@@ -1,0 +1,702 @@
+/*
+ * PMSM + inverter + DC bus + current-sense model.  The equations and
+ * conventions are in pmsm_model.h; this file adds the numerical choices.
+ *
+ * State vector integrated by RK4: rotor-frame currents, mechanical speed,
+ * electrical angle (unwrapped within a period), bus voltage, and the time
+ * integrals of the winding voltages (for the period-average vd/vq report).
+ * Within one PWM period the phase-to-DC-minus voltages are fixed in the
+ * stator frame; the derivative evaluation turns them into the rotor frame
+ * with the angle at that instant.
+ *
+ * Discontinuities (diode commutation, dead-time polarity, dry friction) are
+ * kept out of the RK4 right-hand side: a discrete mode is fixed at the start
+ * of each substep.  Mode changes inside a substep are located by linear
+ * interpolation of a guard quantity between the ends of a trial step:
+ * diode turn-off (a conducting current reaching zero), diode turn-on (a
+ * floating terminal reaching a rail, or the back-EMF spread reaching Vdc),
+ * the rotor stopping (speed reaching zero) and break-away (torque reaching
+ * dry friction).  The substep is integrated up to the crossing, a current
+ * or speed that reached zero is set to exactly zero, the new mode taken
+ * and the rest of the substep integrated.  The dead-time polarity follows
+ * the sign of each phase current at the substep start (not located: near a
+ * zero crossing the current may dither by ~Vdt*h/L around zero, a crude
+ * stand-in for the real zero-current clamp).  Dead time only shortens a
+ * pulse that exists: the effective duty stays within [0, 1].
+ *
+ * Bridge off (all switches open): each phase is in one of three states:
+ * lower diode on (i > 0, terminal at 0 V), upper diode on (i < 0, terminal
+ * at Vdc) or blocked (i = 0, terminal floating).  With one phase blocked the
+ * two others carry opposite currents and the floating terminal voltage is
+ * the Lagrange multiplier that keeps the blocked current at zero; when it
+ * leaves [0, Vdc] that phase's diode starts conducting (RK4 keeps the
+ * rotating constraint only to truncation error, so the blocked current is
+ * projected back to zero after each step).  With all phases blocked the
+ * currents stay exactly zero until the spread of the phase back-EMFs (the
+ * line-line EMF) exceeds Vdc; then the phases with the highest and lowest
+ * EMF start conducting.  Diodes are ideal (no forward drop).
+ *
+ * DC bus with capacitance: the source feeds the capacitor through an ideal
+ * diode and a small resistance (SOURCE_R_OHM, raised to 2 substeps / C for
+ * small capacitors so that the explicit integration stays stable and
+ * accurate).  The inverter's bus current is sum(d_x * i_x) with the
+ * dead-time corrected duties (lossless switches), the upper-diode currents
+ * with the bridge off, and zero with the low sides on.  The bus is not
+ * clamped at 0 V (the bridge diodes would do that; irrelevant unless the
+ * source is set to 0 with a loaded bus).
+ */
+#include "pmsm_model.h"
+
+#include <math.h>
+#include <string.h>
+
+#define PHASES 3
+/* Bound on located mode changes per substep (a few are physically
+ * possible: diode commutations and a rotor stop).  Beyond it the rest of
+ * the substep is integrated without event location. */
+#define MAX_EVENTS_PER_SUBSTEP 8
+
+static const double PI = 3.14159265358979323846;
+static const double SQRT3 = 1.73205080756887729353;
+
+/* Source-to-bus connection: a bench supply with short leads. */
+static const double SOURCE_R_OHM = 0.05;
+/* A phase current within this of zero counts as not conducting; after a
+ * located diode turn-off the current is exactly zero, so this only absorbs
+ * rounding. */
+static const double PHASE_ZERO_A = 1e-9;
+/* xorshift32 has the fixed point 0; seed 0 uses this instead. */
+static const uint32_t SEED_FOR_ZERO = 0x9E3779B9u;
+
+/* Stator axis of each phase: A at 0, B at +120, C at -120 electrical deg. */
+static const double PHASE_COS[PHASES] = { 1.0, -0.5, -0.5 };
+static const double PHASE_SIN[PHASES] = { 0.0, 0.86602540378443864676,
+                                          -0.86602540378443864676 };
+
+enum { X_ID, X_IQ, X_WM, X_THETA, X_VDC, X_VD_INT, X_VQ_INT, X_COUNT };
+
+/* Discrete state held constant over one integration interval. */
+typedef struct {
+    /* bridge off: +1 lower diode on (i > 0, 0 V), -1 upper diode on
+     * (i < 0, Vdc), 0 blocked (i = 0, floating) */
+    int diode[PHASES];
+    /* bridge PWM: sign of each phase current for the dead-time error */
+    int current_sign[PHASES];
+    /* free rotor: direction of motion +1/-1, 0 stuck (stiction) */
+    int motion;
+} discrete_mode_t;
+
+/* Unit vectors of the phase axes seen from the rotor frame; the phase
+ * current is i_x = id * d[x] + iq * q[x] (amplitude-invariant Park). */
+typedef struct {
+    double d[PHASES];
+    double q[PHASES];
+} phase_axes_t;
+
+typedef struct {
+    double ud_v, uq_v;          /* winding voltages, rotor frame */
+    double did_dt, diq_dt;      /* A/s */
+    double bus_current_a;       /* drawn by the inverter from the bus */
+    double float_v;             /* terminal voltage of the one blocked phase */
+} electrical_t;
+
+static int sign_of(double v)
+{
+    return (v > 0.0) - (v < 0.0);
+}
+
+static phase_axes_t phase_axes(double theta_e_rad)
+{
+    const double c = cos(theta_e_rad);
+    const double s = sin(theta_e_rad);
+    phase_axes_t ax;
+    for (int x = 0; x < PHASES; x++) {
+        /* axis angle phi_x - theta: cos(phi - th), sin(phi - th) */
+        ax.d[x] = PHASE_COS[x] * c + PHASE_SIN[x] * s;
+        ax.q[x] = PHASE_SIN[x] * c - PHASE_COS[x] * s;
+    }
+    return ax;
+}
+
+static void phase_currents(const phase_axes_t *ax, double id_a, double iq_a,
+                           double i_a[PHASES])
+{
+    for (int x = 0; x < PHASES; x++) {
+        i_a[x] = id_a * ax->d[x] + iq_a * ax->q[x];
+    }
+}
+
+static double clamp01(double v)
+{
+    return v < 0.0 ? 0.0 : (v > 1.0 ? 1.0 : v);
+}
+
+static double friction_nm(const pmsm_model_t *m)
+{
+    return m->p.coulomb_nm + m->load_nm;
+}
+
+double pmsm_torque(const pmsm_params_t *p, double id_a, double iq_a)
+{
+    return 1.5 * p->pole_pairs *
+           (p->flux_wb * iq_a + (p->ld_h - p->lq_h) * id_a * iq_a);
+}
+
+/* Winding voltages and current derivatives for the given mode and state. */
+static electrical_t electrical(const pmsm_model_t *m, const discrete_mode_t *dm,
+                               const double x[X_COUNT])
+{
+    const pmsm_params_t *p = &m->p;
+    const double id = x[X_ID];
+    const double iq = x[X_IQ];
+    const double we = p->pole_pairs * x[X_WM];
+    const double vdc = x[X_VDC];
+    const phase_axes_t ax = phase_axes(x[X_THETA]);
+    double i_ph[PHASES];
+    phase_currents(&ax, id, iq, i_ph);
+
+    /* winding voltage that would hold the currents constant */
+    const double hold_d = p->rs_ohm * id - we * p->lq_h * iq;
+    const double hold_q = p->rs_ohm * iq + we * (p->ld_h * id + p->flux_wb);
+
+    electrical_t e = { 0 };
+    int blocked = -1;
+    int n_blocked = 0;
+    for (int ph = 0; ph < PHASES; ph++) {
+        double v_terminal = 0.0;
+        if (m->bridge == PMSM_BRIDGE_PWM) {
+            const double duty_eff = clamp01(m->duty[ph] -
+                                            dm->current_sign[ph] *
+                                                p->deadtime_s * p->pwm_hz);
+            v_terminal = vdc * duty_eff;
+            e.bus_current_a += duty_eff * i_ph[ph];
+        } else if (m->bridge == PMSM_BRIDGE_OFF) {
+            if (dm->diode[ph] == 0) {
+                blocked = ph;
+                n_blocked++;
+                continue;
+            }
+            if (dm->diode[ph] < 0) {
+                v_terminal = vdc;
+                e.bus_current_a += i_ph[ph];
+            }
+        }
+        /* amplitude-invariant Clarke of the terminal voltages drops the
+         * common mode, i.e. the floating star point */
+        e.ud_v += 2.0 / 3.0 * v_terminal * ax.d[ph];
+        e.uq_v += 2.0 / 3.0 * v_terminal * ax.q[ph];
+    }
+
+    if (n_blocked >= 2) {
+        /* no path for current: it stays at zero, windings see the EMF */
+        e.ud_v = hold_d;
+        e.uq_v = hold_q;
+        return e;
+    }
+    double gd = e.ud_v - hold_d;
+    double gq = e.uq_v - hold_q;
+    if (n_blocked == 1) {
+        /* The floating terminal adds mu * axis to the winding voltage, mu
+         * chosen so that d/dt (i . axis) = 0 (the axis turns at -we in the
+         * rotor frame). */
+        const double ad = ax.d[blocked];
+        const double aq = ax.q[blocked];
+        const double mu = -(ad * gd / p->ld_h + aq * gq / p->lq_h +
+                            we * (aq * id - ad * iq)) /
+                          (ad * ad / p->ld_h + aq * aq / p->lq_h);
+        e.ud_v += mu * ad;
+        e.uq_v += mu * aq;
+        gd += mu * ad;
+        gq += mu * aq;
+        e.float_v = 1.5 * mu;
+    }
+    e.did_dt = gd / p->ld_h;
+    e.diq_dt = gq / p->lq_h;
+    return e;
+}
+
+static double source_r_ohm(const pmsm_model_t *m)
+{
+    const double substep_s = 1.0 / (m->p.pwm_hz * m->p.substeps);
+    const double r_min_ohm = 2.0 * substep_s / m->p.bus_cap_f;
+    return SOURCE_R_OHM > r_min_ohm ? SOURCE_R_OHM : r_min_ohm;
+}
+
+static void derivative(const pmsm_model_t *m, const discrete_mode_t *dm,
+                       const double x[X_COUNT], double dx[X_COUNT])
+{
+    const pmsm_params_t *p = &m->p;
+    const electrical_t e = electrical(m, dm, x);
+    dx[X_ID] = e.did_dt;
+    dx[X_IQ] = e.diq_dt;
+    dx[X_WM] = 0.0;
+    dx[X_THETA] = 0.0;
+    if (m->rotor != PMSM_ROTOR_LOCKED) {
+        dx[X_THETA] = p->pole_pairs * x[X_WM];
+    }
+    if (m->rotor == PMSM_ROTOR_FREE && dm->motion != 0) {
+        const double te = pmsm_torque(p, x[X_ID], x[X_IQ]);
+        dx[X_WM] = (te - p->b_nm_per_rad_s * x[X_WM] -
+                    friction_nm(m) * dm->motion) / p->j_kgm2;
+    }
+    dx[X_VDC] = 0.0;
+    if (p->bus_cap_f > 0.0) {
+        const double vdc = x[X_VDC];
+        const double i_source = fmax(0.0, (p->vdc_source_v - vdc) /
+                                          source_r_ohm(m));
+        const double i_brake = m->brake_resistor_on ? vdc / p->brake_r_ohm
+                                                    : 0.0;
+        dx[X_VDC] = (i_source - e.bus_current_a - i_brake) / p->bus_cap_f;
+    }
+    dx[X_VD_INT] = e.ud_v;
+    dx[X_VQ_INT] = e.uq_v;
+}
+
+static void rk4(const pmsm_model_t *m, const discrete_mode_t *dm,
+                const double x[X_COUNT], double h, double out[X_COUNT])
+{
+    double k1[X_COUNT], k2[X_COUNT], k3[X_COUNT], k4[X_COUNT], tmp[X_COUNT];
+    derivative(m, dm, x, k1);
+    for (int n = 0; n < X_COUNT; n++) tmp[n] = x[n] + 0.5 * h * k1[n];
+    derivative(m, dm, tmp, k2);
+    for (int n = 0; n < X_COUNT; n++) tmp[n] = x[n] + 0.5 * h * k2[n];
+    derivative(m, dm, tmp, k3);
+    for (int n = 0; n < X_COUNT; n++) tmp[n] = x[n] + h * k3[n];
+    derivative(m, dm, tmp, k4);
+    for (int n = 0; n < X_COUNT; n++) {
+        out[n] = x[n] + h / 6.0 * (k1[n] + 2.0 * k2[n] + 2.0 * k3[n] + k4[n]);
+    }
+}
+
+/* Guards: quantities that stay positive while a discrete mode holds.  Per
+ * phase (bridge off): a conducting phase's current, signed by its diode;
+ * the margin of the one blocked phase's floating terminal voltage to the
+ * rails.  All phases blocked: the margin of Vdc over the back-EMF spread.
+ * Free rotor: the speed signed by the direction of motion, or at rest the
+ * margin of dry friction over the torque. */
+enum { GUARD_ALL_BLOCKED = PHASES, GUARD_ROTOR, GUARD_COUNT };
+
+/* Forced transition when a guard has been reached (located by
+ * interpolation, so the state is only approximately at the boundary). */
+enum { FORCE_NONE = -1 };
+
+/* Spread of the phase back-EMFs (the largest line-line EMF) at zero
+ * current, and the phases with the highest and lowest EMF. */
+static double emf_spread_v(const pmsm_model_t *m, const double x[X_COUNT],
+                           int *hi, int *lo)
+{
+    const phase_axes_t ax = phase_axes(x[X_THETA]);
+    const double emf_q_v = m->p.pole_pairs * x[X_WM] * m->p.flux_wb;
+    double emf_v[PHASES];
+    *hi = 0;
+    *lo = 0;
+    for (int ph = 0; ph < PHASES; ph++) {
+        emf_v[ph] = emf_q_v * ax.q[ph];
+        *hi = emf_v[ph] > emf_v[*hi] ? ph : *hi;
+        *lo = emf_v[ph] < emf_v[*lo] ? ph : *lo;
+    }
+    return emf_v[*hi] - emf_v[*lo];
+}
+
+/* Bridge off: which diodes conduct, from the currents and, for phases at
+ * zero current, from the voltage their terminal would float to.  Zeroes
+ * the currents when fewer than two phases conduct (rounding residue).
+ * force: a guard reached by interpolation whose turn-on is to happen. */
+static void decide_diodes(const pmsm_model_t *m, double x[X_COUNT],
+                          discrete_mode_t *dm, int force)
+{
+    const phase_axes_t ax = phase_axes(x[X_THETA]);
+    double i_ph[PHASES];
+    phase_currents(&ax, x[X_ID], x[X_IQ], i_ph);
+    int n_on = 0;
+    for (int ph = 0; ph < PHASES; ph++) {
+        dm->diode[ph] = fabs(i_ph[ph]) > PHASE_ZERO_A ? sign_of(i_ph[ph]) : 0;
+        n_on += dm->diode[ph] != 0;
+    }
+    const double vdc = x[X_VDC];
+    if (n_on < 2) {
+        memset(dm->diode, 0, sizeof dm->diode);
+        x[X_ID] = 0.0;
+        x[X_IQ] = 0.0;
+        int hi;
+        int lo;
+        if (emf_spread_v(m, x, &hi, &lo) > vdc || force == GUARD_ALL_BLOCKED) {
+            dm->diode[hi] = -1; /* current leaves the motor into DC+ */
+            dm->diode[lo] = +1; /* and returns from DC- */
+        }
+    } else if (n_on == 2) {
+        const electrical_t e = electrical(m, dm, x);
+        for (int ph = 0; ph < PHASES; ph++) {
+            if (dm->diode[ph] != 0) {
+                continue;
+            }
+            const int forced = force == ph;
+            if (e.float_v > vdc || (forced && e.float_v > 0.5 * vdc)) {
+                dm->diode[ph] = -1;
+            } else if (e.float_v < 0.0 || forced) {
+                dm->diode[ph] = +1;
+            }
+        }
+    }
+}
+
+static discrete_mode_t decide_mode(const pmsm_model_t *m, double x[X_COUNT],
+                                   int force)
+{
+    discrete_mode_t dm;
+    memset(&dm, 0, sizeof dm);
+    if (m->bridge == PMSM_BRIDGE_PWM) {
+        const phase_axes_t ax = phase_axes(x[X_THETA]);
+        double i_ph[PHASES];
+        phase_currents(&ax, x[X_ID], x[X_IQ], i_ph);
+        for (int ph = 0; ph < PHASES; ph++) {
+            dm.current_sign[ph] = sign_of(i_ph[ph]);
+        }
+    } else if (m->bridge == PMSM_BRIDGE_OFF) {
+        decide_diodes(m, x, &dm, force);
+    }
+    if (m->rotor == PMSM_ROTOR_FREE) {
+        dm.motion = sign_of(x[X_WM]);
+        if (dm.motion == 0) {
+            /* at rest: breaks away only if the torque beats dry friction */
+            const double te = pmsm_torque(&m->p, x[X_ID], x[X_IQ]);
+            const int breaks_away =
+                fabs(te) > friction_nm(m) || force == GUARD_ROTOR;
+            dm.motion = breaks_away ? sign_of(te) : 0;
+        }
+    }
+    return dm;
+}
+
+static void guards(const pmsm_model_t *m, const discrete_mode_t *dm,
+                   const double x[X_COUNT], double g[GUARD_COUNT])
+{
+    memset(g, 0, GUARD_COUNT * sizeof g[0]);
+    if (m->bridge == PMSM_BRIDGE_OFF) {
+        const phase_axes_t ax = phase_axes(x[X_THETA]);
+        double i_ph[PHASES];
+        phase_currents(&ax, x[X_ID], x[X_IQ], i_ph);
+        const int n_on = (dm->diode[0] != 0) + (dm->diode[1] != 0) +
+                         (dm->diode[2] != 0);
+        const double vdc = x[X_VDC];
+        if (n_on == 0) {
+            int hi;
+            int lo;
+            g[GUARD_ALL_BLOCKED] = vdc - emf_spread_v(m, x, &hi, &lo);
+        }
+        for (int ph = 0; ph < PHASES && n_on > 0; ph++) {
+            if (dm->diode[ph] != 0) {
+                g[ph] = dm->diode[ph] * i_ph[ph];
+            } else {
+                const double float_v = electrical(m, dm, x).float_v;
+                g[ph] = fmin(float_v, vdc - float_v);
+            }
+        }
+    }
+    if (m->rotor == PMSM_ROTOR_FREE) {
+        g[GUARD_ROTOR] =
+            dm->motion != 0
+                ? dm->motion * x[X_WM]
+                : friction_nm(m) - fabs(pmsm_torque(&m->p, x[X_ID], x[X_IQ]));
+    }
+}
+
+/* Earliest guard crossing between x0 and x1 as a fraction of the
+ * interval (linear interpolation); returns the guard index or -1. */
+static int first_crossing(const pmsm_model_t *m, const discrete_mode_t *dm,
+                          const double x0[X_COUNT], const double x1[X_COUNT],
+                          double *fraction)
+{
+    double g0[GUARD_COUNT], g1[GUARD_COUNT];
+    guards(m, dm, x0, g0);
+    guards(m, dm, x1, g1);
+    int first = -1;
+    *fraction = 1.0;
+    for (int k = 0; k < GUARD_COUNT; k++) {
+        if (g0[k] > 0.0 && g1[k] <= 0.0) {
+            const double f = g0[k] / (g0[k] - g1[k]);
+            if (first < 0 || f < *fraction) {
+                first = k;
+                *fraction = f;
+            }
+        }
+    }
+    return first;
+}
+
+/* Removes one phase's current, keeping the other two balanced. */
+static void remove_phase_current(double x[X_COUNT], int ph)
+{
+    const phase_axes_t ax = phase_axes(x[X_THETA]);
+    const double i_x = x[X_ID] * ax.d[ph] + x[X_IQ] * ax.q[ph];
+    x[X_ID] -= i_x * ax.d[ph];
+    x[X_IQ] -= i_x * ax.q[ph];
+}
+
+/* At a guard crossing: a diode turning off or a rotor stopping has its
+ * current or speed set to exactly zero; a turn-on or break-away is forced
+ * into the next mode. */
+static discrete_mode_t cross_guard(const pmsm_model_t *m,
+                                   const discrete_mode_t *dm, int guard,
+                                   double x[X_COUNT])
+{
+    if (guard == GUARD_ROTOR) {
+        if (dm->motion == 0) {
+            return decide_mode(m, x, GUARD_ROTOR);
+        }
+        x[X_WM] = 0.0;
+        return decide_mode(m, x, FORCE_NONE);
+    }
+    if (guard == GUARD_ALL_BLOCKED || dm->diode[guard] == 0) {
+        return decide_mode(m, x, guard);
+    }
+    int others_blocked = 0;
+    for (int ph = 0; ph < PHASES; ph++) {
+        others_blocked |= ph != guard && dm->diode[ph] == 0;
+    }
+    if (others_blocked) {
+        /* the last two conducting phases carry the same current */
+        x[X_ID] = 0.0;
+        x[X_IQ] = 0.0;
+    } else {
+        remove_phase_current(x, guard);
+    }
+    return decide_mode(m, x, FORCE_NONE);
+}
+
+/* Bridge off with one phase blocked: RK4 keeps the (rotating) constraint
+ * only to its truncation error; project the drift away so that the blocked
+ * current stays at rounding level. */
+static void hold_blocked_phase(const pmsm_model_t *m,
+                               const discrete_mode_t *dm, double x[X_COUNT])
+{
+    if (m->bridge != PMSM_BRIDGE_OFF) {
+        return;
+    }
+    int blocked = -1;
+    int n_blocked = 0;
+    for (int ph = 0; ph < PHASES; ph++) {
+        if (dm->diode[ph] == 0) {
+            blocked = ph;
+            n_blocked++;
+        }
+    }
+    if (n_blocked == 1) {
+        remove_phase_current(x, blocked);
+    }
+}
+
+static void integrate_substep(const pmsm_model_t *m, double x[X_COUNT],
+                              double h)
+{
+    discrete_mode_t dm = decide_mode(m, x, FORCE_NONE);
+    double remaining_s = h;
+    for (int events = 0; remaining_s > 0.0; events++) {
+        double end[X_COUNT];
+        rk4(m, &dm, x, remaining_s, end);
+        double fraction = 1.0;
+        const int guard = events < MAX_EVENTS_PER_SUBSTEP
+                              ? first_crossing(m, &dm, x, end, &fraction)
+                              : -1;
+        if (guard < 0) {
+            memcpy(x, end, sizeof end);
+            hold_blocked_phase(m, &dm, x);
+            return;
+        }
+        rk4(m, &dm, x, remaining_s * fraction, end);
+        memcpy(x, end, sizeof end);
+        hold_blocked_phase(m, &dm, x);
+        dm = cross_guard(m, &dm, guard, x);
+        remaining_s *= 1.0 - fraction;
+    }
+}
+
+static double wrap_angle(double theta_rad)
+{
+    const double wrapped = fmod(theta_rad, 2.0 * PI);
+    return wrapped < 0.0 ? wrapped + 2.0 * PI : wrapped;
+}
+
+void pmsm_default_params(pmsm_params_t *p)
+{
+    memset(p, 0, sizeof *p);
+    /* Hurst DMB0224C10002 ("Hurst075") datasheet values. */
+    p->pole_pairs = 5;
+    p->rs_ohm = 2.54;
+    p->ld_h = 1.92e-3;
+    p->lq_h = 1.92e-3;
+    /* Ke = 7.24 Vpk line-to-line per 1000 rpm; per phase (star) the peak
+     * EMF is Ke / sqrt(3) = we * flux at 1000 rpm. */
+    const double ke_vpk_ll_per_krpm = 7.24;
+    const double we_per_krpm_rad_s = 2.0 * PI * 1000.0 / 60.0 * p->pole_pairs;
+    p->flux_wb = ke_vpk_ll_per_krpm / (SQRT3 * we_per_krpm_rad_s);
+    /* Inertia and friction are not published: assumed values of the
+     * right order for this frame size (no load attached). */
+    p->j_kgm2 = 4.8e-6;
+    p->b_nm_per_rad_s = 3.0e-6;
+    p->coulomb_nm = 1.0e-3;
+    p->pwm_hz = 20000.0;
+    p->deadtime_s = 0.0;
+    p->vdc_source_v = 24.0;
+    p->bus_cap_f = 0.0;
+    p->brake_r_ohm = 10.0;
+    p->adc_bits = 10;
+    p->current_fs_a = 4.4;
+    p->noise_codes = 0.0;
+    p->seed = 1;
+    p->substeps = 4;
+}
+
+void pmsm_init(pmsm_model_t *m, const pmsm_params_t *p)
+{
+    memset(m, 0, sizeof *m);
+    m->p = *p;
+    if (m->p.substeps < 1) {
+        m->p.substeps = 1;
+    }
+    m->s.vdc_v = p->vdc_source_v;
+    m->bridge = PMSM_BRIDGE_OFF;
+    m->bridge_next = PMSM_BRIDGE_OFF;
+    for (int ph = 0; ph < PHASES; ph++) {
+        m->duty[ph] = 0.5;
+        m->duty_next[ph] = 0.5;
+    }
+    m->rotor = PMSM_ROTOR_FREE;
+    m->rng = p->seed != 0 ? p->seed : SEED_FOR_ZERO;
+}
+
+void pmsm_set_duties(pmsm_model_t *m, double da, double db, double dc)
+{
+    m->duty_next[0] = clamp01(da);
+    m->duty_next[1] = clamp01(db);
+    m->duty_next[2] = clamp01(dc);
+}
+
+void pmsm_set_bridge(pmsm_model_t *m, pmsm_bridge_t mode)
+{
+    m->bridge_next = mode;
+}
+
+void pmsm_step_period(pmsm_model_t *m)
+{
+    const double period_s = 1.0 / m->p.pwm_hz;
+    const double substep_s = period_s / m->p.substeps;
+    double x[X_COUNT] = { m->s.id_a, m->s.iq_a, m->s.wm_rad_s,
+                          m->s.theta_e_rad, m->s.vdc_v, 0.0, 0.0 };
+    for (int k = 0; k < m->p.substeps; k++) {
+        integrate_substep(m, x, substep_s);
+    }
+    m->s.id_a = x[X_ID];
+    m->s.iq_a = x[X_IQ];
+    m->s.wm_rad_s = x[X_WM];
+    m->s.theta_e_rad = wrap_angle(x[X_THETA]);
+    m->s.vdc_v = x[X_VDC];
+    m->vd_last_v = x[X_VD_INT] / period_s;
+    m->vq_last_v = x[X_VQ_INT] / period_s;
+    m->time_s += period_s;
+    m->bridge = m->bridge_next;
+    memcpy(m->duty, m->duty_next, sizeof m->duty);
+}
+
+static double uniform_open01(uint32_t *state)
+{
+    /* xorshift32 (Marsaglia): never 0 from a non-zero state */
+    uint32_t v = *state;
+    v ^= v << 13;
+    v ^= v >> 17;
+    v ^= v << 5;
+    *state = v;
+    return (double)v / 4294967296.0;
+}
+
+static double gaussian(uint32_t *state)
+{
+    /* Box-Muller, cosine branch only */
+    const double u1 = uniform_open01(state);
+    const double u2 = uniform_open01(state);
+    return sqrt(-2.0 * log(u1)) * cos(2.0 * PI * u2);
+}
+
+static int32_t adc_code(const pmsm_params_t *p, int ph, double i_a,
+                        double noise_codes)
+{
+    const double half_scale = ldexp(1.0, p->adc_bits - 1);
+    const double full_code = 2.0 * half_scale - 1.0;
+    const double ideal = half_scale +
+                         i_a * (1.0 + p->gain_error[ph]) / p->current_fs_a *
+                             half_scale +
+                         p->offset_codes[ph] + noise_codes;
+    const double code = floor(ideal + 0.5);
+    return (int32_t)(code < 0.0 ? 0.0 : (code > full_code ? full_code : code));
+}
+
+void pmsm_sample(pmsm_model_t *m, pmsm_sample_t *out)
+{
+    const pmsm_params_t *p = &m->p;
+    const phase_axes_t ax = phase_axes(m->s.theta_e_rad);
+    double i_ph[PHASES];
+    int32_t code[PHASES];
+    phase_currents(&ax, m->s.id_a, m->s.iq_a, i_ph);
+    for (int ph = 0; ph < PHASES; ph++) {
+        const double noise = p->noise_codes * gaussian(&m->rng);
+        code[ph] = adc_code(p, ph, i_ph[ph], noise);
+    }
+    out->ia_a = i_ph[0];
+    out->ib_a = i_ph[1];
+    out->ic_a = i_ph[2];
+    out->ia_code = code[0];
+    out->ib_code = code[1];
+    out->ic_code = code[2];
+    out->vdc_v = m->s.vdc_v;
+    out->theta_e_rad = m->s.theta_e_rad;
+    out->speed_rpm = m->s.wm_rad_s * 60.0 / (2.0 * PI);
+    out->torque_nm = pmsm_torque(p, m->s.id_a, m->s.iq_a);
+    out->vd_v = m->vd_last_v;
+    out->vq_v = m->vq_last_v;
+}
+
+void pmsm_set_rotor_angle(pmsm_model_t *m, double theta_e_rad)
+{
+    /* the stator currents are continuous: keep them, re-express in the
+     * new rotor frame */
+    const double c0 = cos(m->s.theta_e_rad);
+    const double s0 = sin(m->s.theta_e_rad);
+    const double i_alpha = m->s.id_a * c0 - m->s.iq_a * s0;
+    const double i_beta = m->s.id_a * s0 + m->s.iq_a * c0;
+    const double theta = wrap_angle(theta_e_rad);
+    const double c1 = cos(theta);
+    const double s1 = sin(theta);
+    m->s.id_a = i_alpha * c1 + i_beta * s1;
+    m->s.iq_a = -i_alpha * s1 + i_beta * c1;
+    m->s.theta_e_rad = theta;
+}
+
+void pmsm_set_rotor_mode(pmsm_model_t *m, pmsm_rotor_mode_t mode,
+                         double spin_rpm)
+{
+    m->rotor = mode;
+    m->spin_rpm = spin_rpm;
+    if (mode == PMSM_ROTOR_SPIN) {
+        m->s.wm_rad_s = spin_rpm * 2.0 * PI / 60.0;
+    } else if (mode == PMSM_ROTOR_LOCKED) {
+        m->s.wm_rad_s = 0.0;
+    }
+}
+
+void pmsm_set_load(pmsm_model_t *m, double load_nm)
+{
+    m->load_nm = fabs(load_nm);
+}
+
+void pmsm_set_vdc(pmsm_model_t *m, double vdc_source_v)
+{
+    m->p.vdc_source_v = vdc_source_v;
+    if (m->p.bus_cap_f <= 0.0) {
+        m->s.vdc_v = vdc_source_v;
+    }
+}
+
+void pmsm_set_brake_resistor(pmsm_model_t *m, int on)
+{
+    m->brake_resistor_on = on != 0;
+}
