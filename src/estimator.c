@@ -3,22 +3,34 @@
 
 int foc_est_select(foc_estimator_t *est, foc_est_kind_t kind)
 {
-    if (kind != FOC_EST_SENSORED && kind != FOC_EST_PLL) {
-        return -1; /* not built yet */
+    switch (kind) {
+    case FOC_EST_SENSORED:
+    case FOC_EST_PLL:
+        est->kind = kind;
+        return 0;
+    default:
+        return -1; /* not built */
     }
-    est->kind = kind;
-    return 0;
+}
+
+/* The selected estimator's own angle and speed. */
+static void read_estimate(foc_estimator_t *est)
+{
+    switch (est->kind) {
+    case FOC_EST_PLL:
+        est->est_theta = est->pll.theta;
+        est->est_speed = foc_pll_speed(&est->pll);
+        break;
+    default:
+        est->est_theta = est->sensored.theta;
+        est->est_speed = foc_lpf_out(&est->sensored.speed);
+        break;
+    }
 }
 
 static void publish(foc_estimator_t *est)
 {
-    if (est->kind == FOC_EST_PLL) {
-        est->est_theta = est->pll.theta;
-        est->est_speed = foc_pll_speed(&est->pll);
-    } else {
-        est->est_theta = est->sensored.theta;
-        est->est_speed = foc_lpf_out(&est->sensored.speed);
-    }
+    read_estimate(est);
     if (est->use_sensor != 0u) {
         est->theta = est->sensored.theta;
         est->speed = foc_lpf_out(&est->sensored.speed);
@@ -32,8 +44,14 @@ void foc_est_reset(foc_estimator_t *est, const foc_est_input_t *in, uint8_t use_
 {
     est->use_sensor = (uint8_t)(use_sensor != 0u || est->kind == FOC_EST_SENSORED);
     foc_sensored_reset(&est->sensored, in->theta_sensor);
-    foc_pll_init(&est->pll);
-    foc_pll_reset(&est->pll, 0, 0, in->i_ab);
+    switch (est->kind) {
+    case FOC_EST_PLL:
+        foc_pll_init(&est->pll);
+        foc_pll_reset(&est->pll, 0, 0, in->i_ab);
+        break;
+    default:
+        break;
+    }
     publish(est);
 }
 
@@ -42,8 +60,12 @@ void foc_est_step(foc_estimator_t *est, const foc_est_input_t *in)
     if (est->use_sensor != 0u) {
         foc_sensored_step(&est->sensored, in->theta_sensor);
     }
-    if (est->kind == FOC_EST_PLL) {
+    switch (est->kind) {
+    case FOC_EST_PLL:
         foc_pll_step(&est->pll, in->v_ab, in->i_ab);
+        break;
+    default:
+        break;
     }
     publish(est);
 }

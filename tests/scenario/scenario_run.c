@@ -43,6 +43,7 @@ void run_scenario(const char *text, foc_est_kind_t est, run_t *out)
     out->peak_current_a = sim.peak_current_a;
     out->final_state = sim.ctrl.state;
     out->fault = sim.ctrl.faults.first;
+    out->on_estimator = sim.ctrl.est.use_sensor == 0u;
     scn_free(&scn);
 }
 

@@ -16,6 +16,7 @@ typedef struct {
     double peak_current_a;
     foc_state_t final_state;
     uint16_t fault;
+    int on_estimator;     /* at the end the loop ran on the estimator */
 } run_t;
 
 /* Parses and runs `text`; aborts the test program on a parse error. */

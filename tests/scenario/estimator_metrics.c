@@ -1,0 +1,91 @@
+#include "estimator_metrics.h"
+
+#include "foc/config.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#define WINDOW_S 0.2
+#define MIN_FIRST_RPM 400.0 /* above the sensored hand-over */
+
+/* Time to ramp between two speeds at the configured slew rate. */
+static double ramp_s(double from, double to)
+{
+    return fabs(to - from) / SPEED_RAMP_RPM_PER_S;
+}
+
+void est_measure(foc_est_kind_t kind, const est_case_t *c, est_result_t *out)
+{
+    const double sign = c->speed_rpm < 0.0 ? -1.0 : 1.0;
+    const double first = sign * fmax(fabs(c->speed_rpm), MIN_FIRST_RPM);
+    const double t_first = 0.1;
+    const double t_target = t_first + ramp_s(0.0, first) + 0.1;
+    const double t_load = t_target + ramp_s(first, c->speed_rpm) + 0.1;
+    const double t_window = t_load + 0.3;
+    const double t_end = t_window + WINDOW_S;
+
+    char text[1024];
+    snprintf(text, sizeof text,
+             "%s\n0 angle %g\n0 start\n%g speed %g\n%g speed %g\n%g load %g\n%g end\n",
+             c->plant ? c->plant : "", c->angle_deg, t_first, first, t_target,
+             c->speed_rpm, t_load, c->load_nm, t_end);
+    run_t r;
+    run_scenario(text, kind, &r);
+
+    double sum_e2 = 0.0, peak = 0.0, sum_s2 = 0.0, sum_speed = 0.0;
+    size_t n = 0;
+    out->in_run = 1;
+    for (size_t k = run_index_at(&r, t_window); k < r.n; k++) {
+        const sim_row_t *row = &r.rows[k];
+        const double e = remainder(row->theta_est_deg - row->theta_e_deg, 360.0);
+        const double se = row->speed_est_rpm - row->speed_rpm;
+        sum_e2 += e * e;
+        peak = fmax(peak, fabs(e));
+        sum_s2 += se * se;
+        sum_speed += row->speed_rpm;
+        out->in_run &= strcmp(row->state, "RUN") == 0;
+        n++;
+    }
+    out->ran_on_estimator = r.on_estimator;
+    out->angle_rms_deg = n ? sqrt(sum_e2 / (double)n) : INFINITY;
+    out->angle_peak_deg = peak;
+    out->speed_err_rms_pct = n ? 100.0 * sqrt(sum_s2 / (double)n) / fabs(c->speed_rpm) : INFINITY;
+    out->speed_mean_rpm = n ? sum_speed / (double)n : 0.0;
+    run_free(&r);
+}
+
+int est_check(const char *label, const est_result_t *r, double rms_max_deg,
+              double peak_max_deg, double speed_err_max_pct, double target_rpm)
+{
+    const double speed_dev_pct = 100.0 * fabs(r->speed_mean_rpm - target_rpm) / fabs(target_rpm);
+    const int ok = r->in_run && r->ran_on_estimator && r->angle_rms_deg <= rms_max_deg &&
+                   r->angle_peak_deg <= peak_max_deg &&
+                   r->speed_err_rms_pct <= speed_err_max_pct && speed_dev_pct <= 2.0;
+    printf("%-34s angle rms %6.3f deg peak %6.3f deg | speed err rms %6.3f %% | "
+           "speed %8.1f rpm%s%s  %s\n",
+           label, r->angle_rms_deg, r->angle_peak_deg, r->speed_err_rms_pct,
+           r->speed_mean_rpm, r->in_run ? "" : " NOT-RUN",
+           r->ran_on_estimator ? "" : " ON-SENSOR", ok ? "ok" : "FAIL");
+    return ok;
+}
+
+double est_lowest_speed(foc_est_kind_t kind, const double *speeds, int n,
+                        double rms_max_deg)
+{
+    double lowest = 0.0;
+    for (int i = 0; i < n; i++) {
+        const est_case_t c = { speeds[i], 0.0, 77.0, NULL };
+        est_result_t r;
+        est_measure(kind, &c, &r);
+        const int ok = r.in_run && r.ran_on_estimator && r.angle_rms_deg <= rms_max_deg &&
+                       fabs(r.speed_mean_rpm - speeds[i]) <= 0.1 * speeds[i];
+        printf("  %6.1f rpm: angle rms %7.3f deg, speed %7.1f rpm %s\n", speeds[i],
+               r.angle_rms_deg, r.speed_mean_rpm, ok ? "ok" : "out");
+        if (!ok) {
+            break;
+        }
+        lowest = speeds[i];
+    }
+    return lowest;
+}

@@ -1,0 +1,44 @@
+/*
+ * Steady-state accuracy of an estimator running the loop on its own angle:
+ * the figures issue-level acceptance asks for, measured the same way for
+ * every estimator.
+ *
+ * A run: rotor at a given initial angle, start (sensored start, hand-over
+ * to the estimator at SENSORED_HANDOVER_RPM), go to max(|target|, 400 rpm)
+ * in the target's direction, then to the target, then the load; the
+ * measurement window is the last 0.2 s, once speed and load have settled.
+ */
+#ifndef ESTIMATOR_METRICS_H
+#define ESTIMATOR_METRICS_H
+
+#include "scenario_run.h"
+
+typedef struct {
+    double speed_rpm;     /* target, signed */
+    double load_nm;
+    double angle_deg;     /* initial rotor angle */
+    const char *plant;    /* extra scenario lines at t = 0 (may be NULL) */
+} est_case_t;
+
+typedef struct {
+    int ran_on_estimator; /* 1 if the loop ran on the estimator in the window */
+    int in_run;           /* 1 if the state was RUN throughout the window */
+    double angle_rms_deg, angle_peak_deg;
+    double speed_err_rms_pct;   /* RMS of (estimated - true), % of |target| */
+    double speed_mean_rpm;      /* true speed, mean over the window */
+} est_result_t;
+
+void est_measure(foc_est_kind_t kind, const est_case_t *c, est_result_t *out);
+
+/* Prints one line for a case and returns 1 if it meets the limits:
+ * state RUN on the estimator, angle RMS and peak, speed error, and the
+ * speed within 2 % of the target (the loop really runs there). */
+int est_check(const char *label, const est_result_t *r, double rms_max_deg,
+              double peak_max_deg, double speed_err_max_pct, double target_rpm);
+
+/* Lowest of `speeds` (descending list) at which the angle error RMS stays
+ * <= rms_max_deg in steady state with no load; 0 if none. */
+double est_lowest_speed(foc_est_kind_t kind, const double *speeds, int n,
+                        double rms_max_deg);
+
+#endif /* ESTIMATOR_METRICS_H */

@@ -1,0 +1,90 @@
+/*
+ * Sensorless estimators running the loop on their own angle (after a
+ * sensored start), on the motor of the build's userparms.h with the
+ * controller's parameters equal to the plant unless a case says otherwise.
+ * Limits from the estimator issue: angle error RMS <= 3 deg and peak
+ * <= 6 deg (PLL, Luenberger; flux RMS <= 5 deg), speed estimate error
+ * <= 1 %; detuned motor RMS <= 10 deg; lowest speed with RMS <= 10 deg
+ * at most 5 % of the maximum speed.
+ */
+#include <stdio.h>
+
+#include "estimator_metrics.h"
+#include "foc/config.h"
+#include "testkit.h"
+
+typedef struct {
+    foc_est_kind_t kind;
+    double rms_max_deg;
+    double peak_max_deg;
+} limits_t;
+
+static const limits_t pll_limits = { FOC_EST_PLL, 3.0, 6.0 };
+
+static void check_case(const limits_t *lim, const char *label, const est_case_t *c,
+                       double rms_max, double peak_max)
+{
+    est_result_t r;
+    est_measure(lim->kind, c, &r);
+    TK_CHECK(est_check(label, &r, rms_max, peak_max, 1.0, c->speed_rpm), "%s", label);
+}
+
+static void speeds_and_loads(const limits_t *lim)
+{
+    const double speeds[] = { 500.0, 1000.0, 2000.0, 3000.0 };
+    const double loads[] = { 0.0, 0.05 };
+    for (size_t i = 0; i < 4; i++) {
+        for (size_t j = 0; j < 2; j++) {
+            const est_case_t c = { speeds[i], loads[j], 30.0 + 47.0 * (double)i, NULL };
+            char label[64];
+            snprintf(label, sizeof label, "%s %5.0f rpm %.2f Nm", foc_est_name(lim->kind),
+                     speeds[i], loads[j]);
+            check_case(lim, label, &c, lim->rms_max_deg, lim->peak_max_deg);
+        }
+    }
+}
+
+static void reverse(const limits_t *lim)
+{
+    const double loads[] = { 0.0, 0.05 };
+    for (size_t j = 0; j < 2; j++) {
+        const est_case_t c = { -1000.0, loads[j], 250.0, NULL };
+        char label[64];
+        snprintf(label, sizeof label, "%s -1000 rpm %.2f Nm", foc_est_name(lim->kind), loads[j]);
+        check_case(lim, label, &c, lim->rms_max_deg, lim->peak_max_deg);
+    }
+}
+
+/* The real motor: Rs +30 %, Ls -20 %, flux -10 % from userparms.h. */
+static void detuned(const limits_t *lim)
+{
+    char plant[256];
+    snprintf(plant, sizeof plant, "0 plant rs %g\n0 plant ld %g\n0 plant lq %g\n0 plant flux %g",
+             1.3 * MOTOR_RS_OHM, 0.8 * MOTOR_LD_H, 0.8 * MOTOR_LQ_H, 0.9 * FOC_FLUX_WB);
+    const double loads[] = { 0.0, 0.05 };
+    for (size_t j = 0; j < 2; j++) {
+        const est_case_t c = { 1000.0, loads[j], 160.0, plant };
+        char label[64];
+        snprintf(label, sizeof label, "%s detuned 1000 rpm %.2f Nm", foc_est_name(lim->kind),
+                 loads[j]);
+        check_case(lim, label, &c, 10.0, 180.0);
+    }
+}
+
+static void lowest_speed(const limits_t *lim)
+{
+    const double speeds[] = { 400, 300, 250, 200, 175, 150, 125, 100, 75, 50, 35, 25 };
+    const double lowest = est_lowest_speed(lim->kind, speeds, 12, 10.0);
+    const double target = 0.05 * MOTOR_MAX_SPEED_RPM;
+    printf("%s: lowest steady speed with angle rms <= 10 deg: %.0f rpm (target <= %.0f)\n",
+           foc_est_name(lim->kind), lowest, target);
+    TK_CHECK(lowest > 0.0 && lowest <= target, "lowest speed %.0f rpm", lowest);
+}
+
+static void case_pll_speeds_and_loads(void) { speeds_and_loads(&pll_limits); }
+static void case_pll_reverse(void) { reverse(&pll_limits); }
+static void case_pll_detuned_motor(void) { detuned(&pll_limits); }
+static void case_pll_lowest_speed(void) { lowest_speed(&pll_limits); }
+
+TK_CASES(TK_CASE(case_pll_speeds_and_loads), TK_CASE(case_pll_reverse),
+         TK_CASE(case_pll_detuned_motor), TK_CASE(case_pll_lowest_speed))
