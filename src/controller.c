@@ -1,5 +1,6 @@
 #include "foc/controller.h"
 #include "foc/config.h"
+#include "foc/sqrt.h"
 #include "foc/svm.h"
 #include "foc/trig.h"
 
@@ -47,6 +48,7 @@ void foc_init(foc_ctrl_t *c)
     foc_cs_calib_start(&c->current_sense);
     foc_cc_init(&c->current_ctrl);
     foc_sc_init(&c->speed_ctrl);
+    foc_fw_init(&c->fw);
     foc_bus_init(&c->bus, FOC_VDC_NOMINAL);
     c->est.kind = FOC_ESTIMATOR;
     c->samples.theta_sensor = 0;
@@ -107,6 +109,7 @@ static void start_run(foc_ctrl_t *c)
     foc_est_reset(&c->est, &in, 1);
     foc_cc_reset(&c->current_ctrl);
     foc_sc_preset(&c->speed_ctrl, c->est.speed, 0);
+    foc_fw_reset(&c->fw);
     c->i_ref = zero_dq;
     c->v_ab = zero_ab;
     c->v_ab_prev = zero_ab;
@@ -114,6 +117,16 @@ static void start_run(foc_ctrl_t *c)
     foc_port_set_duties(&c->duty);
     foc_port_pwm_enable();
     enter(c, FOC_STATE_RUN);
+}
+
+/* Field weakening first (Id takes its share of the current limit), then
+ * the speed PI within what is left. */
+static void speed_loop(foc_ctrl_t *c)
+{
+    const q15_t v_mag = foc_mag_q15(c->v_dq.d, c->v_dq.q);
+    c->i_ref.d = foc_fw_step(&c->fw, c->speed_ctrl.ramped, v_mag, c->bus.v_max);
+    foc_est_set_fw(&c->est, c->fw.inv_kfi, c->fw.ls_scale);
+    c->i_ref.q = foc_sc_step(&c->speed_ctrl, c->est.speed, c->i_ref.d);
 }
 
 static void state_machine(foc_ctrl_t *c)
@@ -141,14 +154,14 @@ static void state_machine(foc_ctrl_t *c)
             c->est.use_sensor = 0;
         }
         c->speed_ctrl.target = c->req.speed;
-        c->i_ref.q = foc_sc_step(&c->speed_ctrl, c->est.speed, c->i_ref.d);
+        speed_loop(c);
         if (c->req.stop != 0u) {
             enter(c, FOC_STATE_STOP);
         }
         break;
     case FOC_STATE_STOP:
         c->speed_ctrl.target = 0;
-        c->i_ref.q = foc_sc_step(&c->speed_ctrl, c->est.speed, c->i_ref.d);
+        speed_loop(c);
         if (c->speed_ctrl.ramped == 0 && foc_abs_q15(c->est.speed) <= FOC_STOP_SPEED) {
             outputs_off(c);
             enter(c, FOC_STATE_IDLE);

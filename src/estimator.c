@@ -70,6 +70,12 @@ void foc_est_step(foc_estimator_t *est, const foc_est_input_t *in)
     publish(est);
 }
 
+void foc_est_set_fw(foc_estimator_t *est, q15_t inv_kfi, q15_t ls_scale)
+{
+    foc_pll_set_inv_kfi(&est->pll, inv_kfi);
+    foc_pll_set_ls_scale(&est->pll, ls_scale);
+}
+
 const char *foc_est_name(foc_est_kind_t kind)
 {
     static const char *const names[] = { "sensored", "pll", "luenberger", "flux" };

@@ -61,13 +61,15 @@ static q15_t limited_di(q15_t now, q15_t prev)
     return (q15_t)di;
 }
 
-/* One component of eq. 4: v - Rs (i + i_prev)/2 - Ls di/Ts, saturated. */
+/* One component of eq. 4, v - Rs (i + i_prev)/2 - Ls di/Ts, at half
+ * scale (Q15 of 2 x the voltage base), rounded and saturated. */
 static q15_t emf_component(const foc_pll_t *p, q15_t v, q15_t i, q15_t i_prev)
 {
     const q15_t i_mid = (q15_t)(((int32_t)i + (int32_t)i_prev) >> 1);
     const q15_t r_drop = foc_mul_q15_shift(i_mid, FOC_PLL_RS_MANT, FOC_PLL_RS_SHIFT);
     const q15_t l_drop = foc_mul_q15_shift(limited_di(i, i_prev), p->ls_dt, FOC_PLL_LSDT_SHIFT);
-    return foc_sat_q15((int32_t)v - (int32_t)r_drop - (int32_t)l_drop);
+    const int32_t e = (int32_t)v - (int32_t)r_drop - (int32_t)l_drop; /* |e| < 3 x 2^15 */
+    return foc_sat_q15((e + 1) >> 1);
 }
 
 /* Pushes this period's EMF into the 8-period ring, keeping the sums. */

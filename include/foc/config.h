@@ -126,15 +126,54 @@
 /* Ls/dt with room for the field-weakening scale up to 2x nominal. */
 #define FOC_PLL_LSDT_SHIFT ((uint8_t)FOC_GAIN_SHIFT(2.0 * FOC_LS_DT_PU))
 #define FOC_PLL_LSDT_MANT Q15(FOC_LS_DT_PU / (double)(1L << FOC_PLL_LSDT_SHIFT))
+/* The back-EMF exceeds the voltage base above base speed (that is why
+ * field weakening is needed), so the estimator holds it at half scale:
+ * EMF Q15 of 2 x the voltage base, range +-2 pu.  KFi and 1/KFi below are
+ * per unit of that half-scale EMF. */
+#define FOC_PLL_KFI_PU (FOC_KFI_PU / 2.0)
+#define FOC_PLL_INV_KFI_PU (2.0 * FOC_INV_KFI_PU)
 /* 1/KFi with room for the field-weakening table up to 4x nominal. */
-#define FOC_PLL_INVKFI_SHIFT ((uint8_t)FOC_GAIN_SHIFT(4.0 * FOC_INV_KFI_PU))
-#define FOC_PLL_INVKFI Q15(FOC_INV_KFI_PU / (double)(1L << FOC_PLL_INVKFI_SHIFT))
-#define FOC_PLL_KFI_MANT FOC_GAIN_MANT(FOC_KFI_PU)
-#define FOC_PLL_KFI_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_KFI_PU))
+#define FOC_PLL_INVKFI_SHIFT ((uint8_t)FOC_GAIN_SHIFT(4.0 * FOC_PLL_INV_KFI_PU))
+#define FOC_PLL_INVKFI Q15(FOC_PLL_INV_KFI_PU / (double)(1L << FOC_PLL_INVKFI_SHIFT))
+#define FOC_PLL_KFI_MANT FOC_GAIN_MANT(FOC_PLL_KFI_PU)
+#define FOC_PLL_KFI_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_PLL_KFI_PU))
 #define FOC_PLL_EMF_FILTER_K Q15(FOC_TS_S / (PLL_EMF_FILTER_TIME_S + FOC_TS_S))
 #define FOC_PLL_SPEED_FILTER_K Q15(FOC_TS_S / (PLL_SPEED_FILTER_TIME_S + FOC_TS_S))
 #define FOC_PLL_LOW_SPEED FOC_SPEED_Q15(PLL_LOW_SPEED_RPM)
 #define FOC_SENSORED_HANDOVER_SPEED FOC_SPEED_Q15(SENSORED_HANDOVER_RPM)
+
+/* ------------------------------------------------- field weakening -- */
+#define FOC_FW_ID_MAX FOC_I_Q15(FW_ID_MAX_A)
+#define FOC_FW_MARGIN Q15(FW_VOLTAGE_MARGIN)
+/* Voltage PI (slow tick): error in volts per-unit, output Id per-unit. */
+#define FOC_FW_KP_PU (FW_VOLTAGE_KP_A_PER_V * FOC_V_BASE_V / FOC_I_BASE_A)
+#define FOC_FW_KI_PU (FW_VOLTAGE_KI_A_PER_VS * FOC_SLOW_TS_S * FOC_V_BASE_V / FOC_I_BASE_A)
+#define FOC_FW_KP_MANT FOC_GAIN_MANT(FOC_FW_KP_PU)
+#define FOC_FW_KP_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_FW_KP_PU))
+#define FOC_FW_KI Q15(FOC_FW_KI_PU)
+#define FOC_FW_KC Q15(FOC_FW_KI_PU / FOC_FW_KP_PU)
+/* Tables: 18 entries from FW_START_RPM to FW_END_RPM.  Position in the
+ * table in 1/256 of an entry = (|speed ref| - start) x FOC_FW_POS_GAIN. */
+#define FOC_FW_TABLE_SIZE 18
+#define FOC_FW_START FOC_SPEED_Q15(FW_START_RPM)
+#define FOC_FW_POS_GAIN_PU                                                     \
+    (256.0 * (FOC_FW_TABLE_SIZE - 1) /                                        \
+     ((FW_END_RPM - FW_START_RPM) / SPEED_BASE_RPM * 32768.0))
+#define FOC_FW_POS_MANT FOC_GAIN_MANT(FOC_FW_POS_GAIN_PU)
+#define FOC_FW_POS_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_FW_POS_GAIN_PU))
+/* A 1/KFi table entry from its ratio to nominal (for FW_INVKFI_TABLE). */
+#define FOC_FW_INVKFI_Q(ratio) Q15((ratio) * FOC_PLL_INV_KFI_PU / (double)(1L << FOC_PLL_INVKFI_SHIFT))
+/* Initial Id table: the no-load voltage balance w (Ld Id + flux) = Vfw at
+ * the entry's speed, Vfw = the voltage limit x margin on the nominal bus;
+ * clamped to [-FW_ID_MAX_A, 0]. */
+#define FOC_FW_WE_AT(i)                                                        \
+    ((FW_START_RPM + (i) * (FW_END_RPM - FW_START_RPM) / (FOC_FW_TABLE_SIZE - 1)) * \
+     MOTOR_POLE_PAIRS * 2.0 * FOC_PI_D / 60.0)
+#define FOC_FW_VFW_V (FOC_V_BASE_V * VOLTAGE_LIMIT_FRACTION * FW_VOLTAGE_MARGIN)
+#define FOC_FW_ID_RAW_A(i) ((FOC_FW_VFW_V / FOC_FW_WE_AT(i) - FOC_FLUX_WB) / MOTOR_LD_H)
+#define FOC_FW_ID_AT(i)                                                        \
+    FOC_I_Q15(FOC_FW_ID_RAW_A(i) > 0.0 ? 0.0                                   \
+              : FOC_FW_ID_RAW_A(i) < -FW_ID_MAX_A ? -FW_ID_MAX_A : FOC_FW_ID_RAW_A(i))
 
 /* -------------------------------------------------------------- bus -- */
 /* Nominal bus in bus-ADC counts; the modulation compensation is
@@ -185,13 +224,23 @@ FOC_STATIC_ASSERT(SPEED_FILTER_TIME_S >= 0.0, "SPEED_FILTER_TIME_S must be >= 0"
 FOC_STATIC_ASSERT(FOC_RS_PU < 32768.0, "MOTOR_RS_OHM too high for the per-unit format");
 FOC_STATIC_ASSERT(2.0 * FOC_LS_DT_PU < 32768.0,
                   "MOTOR_LQ_H too high for the per-unit format at PWM_FREQUENCY_HZ");
-FOC_STATIC_ASSERT(FOC_KFI_PU > 1.0 / 8192.0 && 4.0 * FOC_INV_KFI_PU < 32768.0,
+FOC_STATIC_ASSERT(FOC_KFI_PU > 1.0 / 8192.0 && 4.0 * FOC_PLL_INV_KFI_PU < 32768.0,
                   "MOTOR_KE_VPK_PER_KRPM too low for SPEED_BASE_RPM and the bus voltage");
 FOC_STATIC_ASSERT(FOC_KFI_PU < 32768.0, "MOTOR_KE_VPK_PER_KRPM too high");
 FOC_STATIC_ASSERT(PLL_EMF_FILTER_TIME_S >= 0.0 && PLL_SPEED_FILTER_TIME_S >= 0.0,
                   "PLL filter time constants must be >= 0");
 FOC_STATIC_ASSERT(PLL_LOW_SPEED_RPM >= 0.0 && PLL_LOW_SPEED_RPM < SPEED_BASE_RPM,
                   "PLL_LOW_SPEED_RPM out of range");
+FOC_STATIC_ASSERT(FW_ID_MAX_A >= 0.0 && FW_ID_MAX_A <= CURRENT_LIMIT_A,
+                  "FW_ID_MAX_A must be within [0, CURRENT_LIMIT_A]");
+FOC_STATIC_ASSERT(FW_VOLTAGE_MARGIN > 0.5 && FW_VOLTAGE_MARGIN <= 1.0,
+                  "FW_VOLTAGE_MARGIN must be in (0.5, 1]");
+FOC_STATIC_ASSERT(FOC_FW_KP_PU > 0.0 && FOC_FW_KP_PU < 32768.0 && FOC_FW_KI_PU < 1.0 &&
+                  FOC_FW_KI_PU / FOC_FW_KP_PU < 1.0,
+                  "FW_VOLTAGE_KP_A_PER_V / FW_VOLTAGE_KI_A_PER_VS out of range");
+FOC_STATIC_ASSERT(FW_START_RPM > 0.0 && FW_END_RPM > FW_START_RPM && FW_END_RPM < SPEED_BASE_RPM,
+                  "need 0 < FW_START_RPM < FW_END_RPM < SPEED_BASE_RPM");
+FOC_STATIC_ASSERT(FOC_FW_POS_GAIN_PU < 32768.0, "FW_END_RPM - FW_START_RPM too small");
 FOC_STATIC_ASSERT(STOP_SPEED_RPM >= 0.0 && STOP_SPEED_RPM < SPEED_BASE_RPM,
                   "STOP_SPEED_RPM out of range");
 

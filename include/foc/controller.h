@@ -32,6 +32,7 @@
 #include "foc/current_sense.h"
 #include "foc/estimator.h"
 #include "foc/faults.h"
+#include "foc/field_weakening.h"
 #include "foc/port.h"
 #include "foc/speed_ctrl.h"
 
@@ -73,6 +74,7 @@ typedef struct {
     foc_current_sense_t current_sense;
     foc_current_ctrl_t current_ctrl;
     foc_speed_ctrl_t speed_ctrl;
+    foc_fw_t fw;
     foc_bus_t bus;
     foc_estimator_t est;
 

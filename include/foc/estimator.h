@@ -53,6 +53,11 @@ void foc_est_reset(foc_estimator_t *est, const foc_est_input_t *in, uint8_t use_
 /* One PWM period; updates all outputs. */
 void foc_est_step(foc_estimator_t *est, const foc_est_input_t *in);
 
+/* Field weakening's run-time machine constants: 1/KFi as a mantissa of
+ * FOC_PLL_INVKFI_SHIFT and Ls/(2 Ls0) in Q15 (0.5 nominal); estimators
+ * that model neither ignore them. */
+void foc_est_set_fw(foc_estimator_t *est, q15_t inv_kfi, q15_t ls_scale);
+
 /* "sensored", "pll", "luenberger", "flux". */
 const char *foc_est_name(foc_est_kind_t kind);
 

@@ -21,13 +21,15 @@
  * Eq = |E| cos d, so w = w_true cos d + |w_true| sin d: the estimate speeds
  * up when it lags, in both directions of rotation.
  *
- * Units: voltages and EMF Q15 of the voltage base, currents Q15 of the
+ * Units: voltages Q15 of the voltage base, EMF Q15 of twice the voltage
+ * base (it exceeds the voltage base above base speed), currents Q15 of the
  * current base, speed Q15 of SPEED_BASE_RPM (electrical = mechanical x p),
  * angle uint16 (theta32: uint32, 2^32 = 360 deg, for sub-count
  * resolution).  All products 32-bit; every result saturated to Q15.
  *
  * 1/KFi and Ls are run-time variables so the field-weakening tables can
- * adjust them: inv_kfi is a Q15 mantissa over FOC_PLL_INVKFI_SHIFT, and
+ * adjust them: inv_kfi is a Q15 mantissa over FOC_PLL_INVKFI_SHIFT (per
+ * unit of the half-scale EMF), and
  * ls_scale is Ls/(2 Ls0) in Q15 (0.5 = nominal), AN1292's convention.
  */
 #ifndef FOC_PLL_EST_H

@@ -13,7 +13,7 @@ void run_scenario(const char *text, foc_est_kind_t est, run_t *out)
         exit(2);
     }
     static sim_t sim;
-    const sim_options_t opt = { est, 1u };
+    const sim_options_t opt = { est, 1u, -1 };
     if (sim_init(&sim, &opt, &scn, err, sizeof err) != 0) {
         fprintf(stderr, "sim error: %s\n", err);
         exit(2);

@@ -3,6 +3,7 @@
  *
  *   focsim [--estimator sensored|pll|luenberger|flux] [--scenario FILE]
  *          [--csv FILE] [--plot FILE.svg] [--seed N] [--decimate N]
+ *          [--field-weakening off|table|voltage]
  *
  * Without --estimator it uses the one userparms.h selects (FOC_ESTIMATOR);
  * without --scenario it runs tools/scenarios/default.scn.  Prints a summary
@@ -28,6 +29,7 @@ typedef struct {
     const char *scenario;
     const char *csv;
     const char *plot;
+    const char *fw;
     unsigned long seed;
     unsigned long decimate;
 } cli_t;
@@ -45,7 +47,8 @@ static void usage(FILE *f)
     fputs("usage: focsim [--estimator sensored|pll|luenberger|flux] "
           "[--scenario FILE]\n"
           "              [--csv FILE] [--plot FILE.svg] [--seed N] "
-          "[--decimate N]\n",
+          "[--decimate N]\n"
+          "              [--field-weakening off|table|voltage]\n",
           f);
 }
 
@@ -67,6 +70,7 @@ static int parse_cli(int argc, char **argv, cli_t *cli)
     cli->scenario = FOCSIM_DEFAULT_SCENARIO;
     cli->csv = NULL;
     cli->plot = NULL;
+    cli->fw = NULL;
     cli->seed = 1;
     cli->decimate = 1;
     for (int i = 1; i < argc; i++) {
@@ -88,6 +92,8 @@ static int parse_cli(int argc, char **argv, cli_t *cli)
             cli->csv = val;
         } else if (strcmp(opt, "--plot") == 0) {
             cli->plot = val;
+        } else if (strcmp(opt, "--field-weakening") == 0) {
+            cli->fw = val;
         } else if (strcmp(opt, "--seed") == 0) {
             if (parse_ulong(val, &cli->seed) != 0 || cli->seed > 0xFFFFFFFFul) {
                 fprintf(stderr, "focsim: --seed takes a whole number 0..4294967295\n");
@@ -217,7 +223,12 @@ int main(int argc, char **argv)
         usage(stderr);
         return 1;
     }
-    sim_options_t opt = { FOC_ESTIMATOR, 0 };
+    sim_options_t opt = { FOC_ESTIMATOR, 0, -1 };
+    if (cli.fw != NULL && sim_fw_mode_from_name(cli.fw, &opt.fw_mode) != 0) {
+        fprintf(stderr, "focsim: unknown field-weakening mode '%s'\n", cli.fw);
+        usage(stderr);
+        return 1;
+    }
     if (cli.estimator == NULL) {
         cli.estimator = foc_est_name(opt.estimator);
     } else if (sim_estimator_from_name(cli.estimator, &opt.estimator) != 0) {

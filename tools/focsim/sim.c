@@ -34,6 +34,18 @@ int sim_estimator_from_name(const char *name, foc_est_kind_t *kind)
     return -1;
 }
 
+int sim_fw_mode_from_name(const char *name, int *mode)
+{
+    static const char *const names[] = { "off", "table", "voltage" };
+    for (int i = 0; i < 3; i++) {
+        if (strcmp(name, names[i]) == 0) {
+            *mode = i;
+            return 0;
+        }
+    }
+    return -1;
+}
+
 /* The plant as userparms.h describes it. */
 static void plant_from_userparms(pmsm_params_t *p, uint32_t seed)
 {
@@ -66,6 +78,9 @@ int sim_init(sim_t *s, const sim_options_t *o, const scn_t *scn, char *err,
         snprintf(err, errlen, "estimator '%s' is not available yet",
                  foc_est_name(o->estimator));
         return -1;
+    }
+    if (o->fw_mode >= 0) {
+        s->ctrl.fw.mode = (foc_fw_mode_t)o->fw_mode;
     }
     s->scn = scn;
     s->next_event = 0;

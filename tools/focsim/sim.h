@@ -27,6 +27,7 @@
 typedef struct {
     foc_est_kind_t estimator;
     uint32_t seed;
+    int fw_mode;            /* foc_fw_mode_t, or -1 for userparms.h's */
 } sim_options_t;
 
 /* One CSV row; names and units as in the CSV header (sim_csv_header). */
@@ -66,6 +67,9 @@ void sim_csv_row(const sim_row_t *r, char *buf, size_t len);
 
 /* Parses "sensored|pll|luenberger|flux"; -1 if unknown. */
 int sim_estimator_from_name(const char *name, foc_est_kind_t *kind);
+
+/* Parses "off|table|voltage"; -1 if unknown. */
+int sim_fw_mode_from_name(const char *name, int *mode);
 
 /* Q15 speed to mechanical rpm and back (saturating). */
 double sim_rpm_from_q15(q15_t speed);
