@@ -34,7 +34,7 @@ FOC_STATIC_ASSERT(sizeof id_table / sizeof id_table[0] == FOC_FW_TABLE_SIZE &&
 void foc_fw_init(foc_fw_t *fw)
 {
     fw->mode = FW_MODE;
-    foc_pi_init(&fw->pi, FOC_FW_KP_MANT, FOC_FW_KP_SHIFT, FOC_FW_KI, FOC_FW_KC,
+    foc_pi_init(&fw->pi, FOC_FW_KP_MANT, FOC_FW_KP_SHIFT, FOC_FW_KI, 0, FOC_FW_KC,
                 (q15_t)-FOC_FW_ID_MAX, 0);
     foc_fw_reset(fw);
 }

@@ -6,6 +6,20 @@
 /* Integrator (Q31) of a Q15 value: the Q15 value in the upper 16 bits. */
 #define Q15_TO_Q31(x) ((int32_t)(x) * 65536)
 
+/* The Q30 product p as Q31 times 2^shift (p x 2^(1 + shift)), saturated:
+ * multiplied, never shifted left, so a negative p is well defined. */
+static q31_t q30_to_q31_scaled(int32_t p, uint8_t shift)
+{
+    const int32_t limit = INT32_MAX >> (1u + shift);
+    if (p > limit) {
+        return INT32_MAX;
+    }
+    if (p < -limit) {
+        return -INT32_MAX;
+    }
+    return p * ((int32_t)2 << shift);
+}
+
 /* Keeps the Q15 part of the integrator within the output limits. */
 static void clamp_integ(foc_pi_q15_t *pi)
 {
@@ -30,11 +44,12 @@ static q15_t clamp_out(const foc_pi_q15_t *pi, int32_t u)
 }
 
 void foc_pi_init(foc_pi_q15_t *pi, q15_t kp, uint8_t kp_shift, q15_t ki,
-                 q15_t kc, q15_t out_min, q15_t out_max)
+                 uint8_t ki_shift, q15_t kc, q15_t out_min, q15_t out_max)
 {
     pi->kp = kp;
     pi->kp_shift = kp_shift;
     pi->ki = ki;
+    pi->ki_shift = ki_shift;
     pi->kc = kc;
     pi->out_min = out_min;
     pi->out_max = out_max;
@@ -68,9 +83,10 @@ q15_t foc_pi_step(foc_pi_q15_t *pi, q15_t e)
      * size up to full scale. */
     const q15_t excess = foc_sat_q15((int32_t)y - u);
 
-    /* I += Ki e + Kc (y - u), Q31 (twice the Q30 products; no overflow for
-     * gains in [0, 32767]), saturating, then kept within the output range. */
-    pi->integ = foc_add_q31(pi->integ, 2 * ((int32_t)pi->ki * (int32_t)e));
+    /* I += Ki e + Kc (y - u), Q31 (the Q30 products doubled, Ki's scaled by
+     * its exponent; saturating), then kept within the output range. */
+    pi->integ = foc_add_q31(pi->integ,
+                            q30_to_q31_scaled((int32_t)pi->ki * (int32_t)e, pi->ki_shift));
     pi->integ = foc_add_q31(pi->integ, 2 * ((int32_t)pi->kc * (int32_t)excess));
     clamp_integ(pi);
     return y;

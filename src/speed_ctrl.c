@@ -6,7 +6,7 @@ void foc_sc_init(foc_speed_ctrl_t *sc)
 {
     sc->target = 0;
     sc->ramped = 0;
-    foc_pi_init(&sc->pi, FOC_SPEED_KP_MANT, FOC_SPEED_KP_SHIFT, FOC_SPEED_KI,
+    foc_pi_init(&sc->pi, FOC_SPEED_KP_MANT, FOC_SPEED_KP_SHIFT, FOC_SPEED_KI_MANT, FOC_SPEED_KI_SHIFT,
                 FOC_SPEED_KC, (q15_t)-FOC_CURRENT_LIMIT, FOC_CURRENT_LIMIT);
 }
 

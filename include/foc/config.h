@@ -29,7 +29,12 @@
 #include FOC_USERPARMS_FILE
 
 /* Static assertion that names what to change.  Floating-point constant
- * expressions are folded by GCC/XC16 (not ISO C; no -pedantic on the core). */
+ * expressions are folded by GCC/XC16 (not ISO C; no -pedantic on the core).
+ * In strict C99 mode glibc replaces the keyword by a bit-field trick that
+ * loses the message; GCC has the keyword in C99 as well, so take it back. */
+#ifdef _Static_assert
+#undef _Static_assert
+#endif
 #define FOC_STATIC_ASSERT(cond, msg) _Static_assert(cond, msg)
 
 #define FOC_PI_D 3.14159265358979323846
@@ -83,7 +88,8 @@
     (SPEED_KI_A_PER_RPM_S * FOC_SLOW_TS_S * SPEED_BASE_RPM / FOC_I_BASE_A)
 #define FOC_SPEED_KP_MANT FOC_GAIN_MANT(FOC_SPEED_KP_PU)
 #define FOC_SPEED_KP_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_SPEED_KP_PU))
-#define FOC_SPEED_KI Q15(FOC_SPEED_KI_PU)
+#define FOC_SPEED_KI_MANT FOC_GAIN_MANT(FOC_SPEED_KI_PU)
+#define FOC_SPEED_KI_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_SPEED_KI_PU))
 #define FOC_SPEED_KC Q15(FOC_SPEED_KI_PU / FOC_SPEED_KP_PU)
 /* Reference slew per slow tick, Q15 speed (at least 1 LSB). */
 #define FOC_SPEED_RAMP_STEP_PU (SPEED_RAMP_RPM_PER_S * FOC_SLOW_TS_S / SPEED_BASE_RPM)
@@ -206,8 +212,8 @@ FOC_STATIC_ASSERT(FOC_CURRENT_KI_PU / FOC_CURRENT_KP_PU < 1.0,
                   "anti-windup gain");
 FOC_STATIC_ASSERT(FOC_SPEED_KP_PU < 32768.0,
                   "SPEED_KP_A_PER_RPM overflows its per-unit gain format");
-FOC_STATIC_ASSERT(FOC_SPEED_KI_PU < 1.0,
-                  "SPEED_KI_A_PER_RPM_S too high: Ki per slow tick must be < 1 pu");
+FOC_STATIC_ASSERT(FOC_SPEED_KI_PU < 32768.0,
+                  "SPEED_KI_A_PER_RPM_S overflows its per-unit gain format");
 FOC_STATIC_ASSERT(FOC_SPEED_KI_PU / FOC_SPEED_KP_PU < 1.0,
                   "SPEED_KI_A_PER_RPM_S / SPEED_KP_A_PER_RPM too high for the "
                   "anti-windup gain");

@@ -27,7 +27,8 @@
 typedef struct {
     q15_t kp;         /* proportional gain mantissa, Q15 */
     uint8_t kp_shift; /* proportional gain exponent, 0..15 */
-    q15_t ki;         /* integral gain per execution, Q15 */
+    q15_t ki;         /* integral gain per execution, mantissa, Q15 */
+    uint8_t ki_shift; /* integral gain exponent, 0..15 */
     q15_t kc;         /* anti-windup back-calculation gain, Q15 */
     q15_t out_min;    /* output limits, Q15, out_min <= out_max */
     q15_t out_max;
@@ -36,7 +37,7 @@ typedef struct {
 
 /* Sets gains and limits, clears the integrator. */
 void foc_pi_init(foc_pi_q15_t *pi, q15_t kp, uint8_t kp_shift, q15_t ki,
-                 q15_t kc, q15_t out_min, q15_t out_max);
+                 uint8_t ki_shift, q15_t kc, q15_t out_min, q15_t out_max);
 
 /* Changes the limits at run time (the integrator is clamped to them). */
 void foc_pi_set_limits(foc_pi_q15_t *pi, q15_t out_min, q15_t out_max);

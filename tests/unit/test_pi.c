@@ -27,7 +27,7 @@ typedef struct {
 static ref_pi_t ref_from(const foc_pi_q15_t *pi, int anti_windup)
 {
     const ref_pi_t r = { pi->kp * ldexp(1.0, pi->kp_shift) / 32768.0,
-                         pi->ki / 32768.0,
+                         pi->ki * ldexp(1.0, pi->ki_shift) / 32768.0,
                          anti_windup ? pi->kc / 32768.0 : 0.0,
                          pi->out_min,
                          pi->out_max,
@@ -67,17 +67,20 @@ static void case_step_response(void)
     static const struct {
         q15_t kp;
         uint8_t shift;
-        q15_t ki, kc, lo, hi, ref;
+        q15_t ki;
+        uint8_t ki_shift;
+        q15_t kc, lo, hi, ref;
     } runs[] = {
-        { Q15(0.5), 0, Q15(0.02), Q15(0.5), Q15(-0.9), Q15(0.9), Q15(0.5) },
-        { Q15(0.5), 0, Q15(0.02), Q15(0.5), Q15(-0.9), Q15(0.6), Q15(0.8) },
-        { Q15(0.5), 0, Q15(0.02), Q15(0.5), Q15(-0.9), Q15(0.9), Q15(-0.7) },
-        { Q15(0.75), 2, Q15(0.05), Q15(0.2), Q15(-1.0), Q15(1.0), Q15(0.3) },
+        { Q15(0.5), 0, Q15(0.02), 0, Q15(0.5), Q15(-0.9), Q15(0.9), Q15(0.5) },
+        { Q15(0.5), 0, Q15(0.02), 0, Q15(0.5), Q15(-0.9), Q15(0.6), Q15(0.8) },
+        { Q15(0.5), 0, Q15(0.02), 0, Q15(0.5), Q15(-0.9), Q15(0.9), Q15(-0.7) },
+        { Q15(0.75), 2, Q15(0.05), 0, Q15(0.2), Q15(-1.0), Q15(1.0), Q15(0.3) },
+        { Q15(0.5), 0, Q15(0.015), 2, Q15(0.5), Q15(-0.9), Q15(0.9), Q15(0.5) },
     };
     double worst = 0.0;
     for (size_t i = 0; i < sizeof runs / sizeof runs[0]; i++) {
         foc_pi_q15_t pi;
-        foc_pi_init(&pi, runs[i].kp, runs[i].shift, runs[i].ki, runs[i].kc,
+        foc_pi_init(&pi, runs[i].kp, runs[i].shift, runs[i].ki, runs[i].ki_shift, runs[i].kc,
                     runs[i].lo, runs[i].hi);
         ref_pi_t ref = ref_from(&pi, 1);
         double x_fix = 0.0;
@@ -136,7 +139,7 @@ static void case_windup_recovery(void)
     const q15_t e_hold = Q15(0.5);
     const q15_t e_back = Q15(-0.05);
     foc_pi_q15_t pi;
-    foc_pi_init(&pi, Q15(0.2), 0, Q15(0.01), Q15(0.1), Q15(-0.5), Q15(0.5));
+    foc_pi_init(&pi, Q15(0.2), 0, Q15(0.01), 0, Q15(0.1), Q15(-0.5), Q15(0.5));
     ref_pi_t plain = ref_from(&pi, 0);
     int saturated = 0;
     for (int n = 0; n < 5000; n++) {
@@ -163,7 +166,7 @@ static void case_windup_recovery(void)
 static void case_windup_slow_ramp(void)
 {
     foc_pi_q15_t pi;
-    foc_pi_init(&pi, Q15(0.1), 0, Q15(0.002), Q15(0.05), Q15(-0.25),
+    foc_pi_init(&pi, Q15(0.1), 0, Q15(0.002), 0, Q15(0.05), Q15(-0.25),
                 Q15(0.25));
     ref_pi_t ref = ref_from(&pi, 1);
     ref_pi_t plain = ref_from(&pi, 0);
@@ -205,7 +208,7 @@ static void case_windup_slow_ramp(void)
 static void case_bumpless_preset(void)
 {
     foc_pi_q15_t pi;
-    foc_pi_init(&pi, Q15(0.3), 1, Q15(0.05), Q15(0.1), Q15(-0.8), Q15(0.7));
+    foc_pi_init(&pi, Q15(0.3), 1, Q15(0.05), 0, Q15(0.1), Q15(-0.8), Q15(0.7));
     for (int32_t y0 = -32768; y0 <= 32767; y0 += 97) {
         foc_pi_step(&pi, (q15_t)(y0 / 2)); /* disturb the integrator */
         foc_pi_preset(&pi, (q15_t)y0);
@@ -224,7 +227,7 @@ static void case_integrator_in_range(void)
     foc_pi_q15_t pi;
     uint32_t s = 1u;
     int errors = 0;
-    foc_pi_init(&pi, Q15(0.9), 3, Q15(0.9), Q15(0.9), Q15(-0.5), Q15(0.5));
+    foc_pi_init(&pi, Q15(0.9), 3, Q15(0.9), 0, Q15(0.9), Q15(-0.5), Q15(0.5));
     for (int n = 0; n < 200000; n++) {
         s = s * 1664525u + 1013904223u;
         if ((n % 1000) == 0) {
@@ -242,7 +245,7 @@ static void case_integrator_in_range(void)
     }
     TK_CHECK(errors == 0, "%d violations", errors);
     /* Limits that exclude zero hold the integrator from init on. */
-    foc_pi_init(&pi, Q15(0.5), 0, Q15(0.1), Q15(0.1), Q15(0.2), Q15(0.4));
+    foc_pi_init(&pi, Q15(0.5), 0, Q15(0.1), 0, Q15(0.1), Q15(0.2), Q15(0.4));
     TK_CHECK(foc_pi_step(&pi, 0) == Q15(0.2), "init: %d", foc_pi_step(&pi, 0));
 }
 
@@ -255,7 +258,7 @@ static void case_kp_shift(void)
     for (size_t k = 0; k < sizeof kps / sizeof kps[0]; k++) {
         for (uint8_t shift = 0; shift <= 15; shift++) {
             foc_pi_q15_t pi;
-            foc_pi_init(&pi, kps[k], shift, 0, 0, Q15_MIN, Q15_MAX);
+            foc_pi_init(&pi, kps[k], shift, 0, 0, 0, Q15_MIN, Q15_MAX);
             for (int32_t e = -32768; e <= 32767; e += 7) {
                 const double p = floor(kps[k] * ldexp(1.0, shift) * e
                                        / 32768.0 + 0.5);
@@ -270,7 +273,7 @@ static void case_kp_shift(void)
     }
     TK_CHECK(errors == 0, "%d mismatches", errors);
     foc_pi_q15_t pi;
-    foc_pi_init(&pi, Q15(0.75), 2, 0, 0, Q15_MIN, Q15_MAX); /* Kp = 3 */
+    foc_pi_init(&pi, Q15(0.75), 2, 0, 0, 0, Q15_MIN, Q15_MAX); /* Kp = 3 */
     TK_CHECK(foc_pi_step(&pi, 1000) == 3000, "3 x 1000");
 }
 
@@ -279,7 +282,7 @@ static void case_kp_shift(void)
 static void case_set_limits(void)
 {
     foc_pi_q15_t pi;
-    foc_pi_init(&pi, Q15(0.5), 0, Q15(0.01), Q15(0.1), Q15(-0.9), Q15(0.9));
+    foc_pi_init(&pi, Q15(0.5), 0, Q15(0.01), 0, Q15(0.1), Q15(-0.9), Q15(0.9));
     foc_pi_preset(&pi, Q15(0.8));
     foc_pi_set_limits(&pi, Q15(-0.5), Q15(0.5));
     TK_CHECK((pi.integ >> 16) == Q15(0.5), "I=%ld", (long)(pi.integ >> 16));
