@@ -46,3 +46,173 @@ build/core-arm/%.o: src/%.c $(wildcard include/foc/*.h) $(ARM_PARMS)
 
 clean:
 	rm -rf build
+
+# ------------------------------------------------------------------ dsPIC --
+# dsPIC33FJ32MC204 on the dsPICDEM MCLV (hal/dspic33fj, boards/dspicdem_mclv).
+#
+#   make dspic         firmware with Microchip XC16 -> build/dspic/mclv_foc.hex
+#                      (XC16_CC=<path to xc16-gcc> if it is not on PATH)
+#   make dspic-check   no XC16 needed:
+#                      dspic-check-host   core + port + board compiled by the
+#                        host gcc against the register stub
+#                        (hal/dspic33fj/stub) and linked: a missing port
+#                        function is a link error
+#                      dspic-check-int16  the same sources compiled by avr-gcc,
+#                        whose int is 16 bits and long 32 like XC16's
+#                        (Debian: apt-get install gcc-avr avr-libc)
+#                      both with warnings as errors, -Wconversion included
+DSPIC_PARMS     := $(if $(FOC_USERPARMS),$(abspath $(FOC_USERPARMS)),$(abspath userparms.h.in))
+DSPIC_HAL       := hal/dspic33fj
+DSPIC_BOARD     := boards/dspicdem_mclv
+DSPIC_CORE_SRC  := $(wildcard src/*.c)
+DSPIC_PORT_SRC  := $(wildcard $(DSPIC_HAL)/*.c) $(wildcard $(DSPIC_BOARD)/*.c)
+DSPIC_DEPS      := $(wildcard include/foc/*.h $(DSPIC_HAL)/*.h $(DSPIC_HAL)/stub/*.h \
+                   $(DSPIC_BOARD)/*.h) $(DSPIC_PARMS)
+DSPIC_INC       := -Iinclude -I$(DSPIC_HAL) -I$(DSPIC_BOARD) \
+                   -DFOC_USERPARMS_FILE='"$(DSPIC_PARMS)"'
+DSPIC_WARN      := -Wall -Wextra -Wconversion -Wsign-conversion -Wshadow \
+                   -Wstrict-prototypes -Wmissing-prototypes -Werror
+XC16_CC         ?= xc16-gcc
+XC16_BIN2HEX    ?= $(patsubst %gcc,%bin2hex,$(XC16_CC))
+XC16_OPT        ?= -O1
+XC16_WARN       ?= -Wall -Wextra -Werror
+DSPIC_OUT       := build/dspic
+DSPIC_HOST_CC   ?= gcc
+DSPIC_AVR_CC    ?= avr-gcc
+DSPIC_AVR_FLAGS := -mmcu=atmega2560 -std=c99 -O2
+DSPIC_CHECK     := build/dspic-check
+DSPIC_CHECK_SRC := $(DSPIC_CORE_SRC) $(DSPIC_PORT_SRC) $(DSPIC_HAL)/stub/stub_regs.c
+DSPIC_HOST_OBJ  := $(patsubst %.c,$(DSPIC_CHECK)/host/%.o,$(DSPIC_CHECK_SRC))
+DSPIC_INT16_OBJ := $(patsubst %.c,$(DSPIC_CHECK)/int16/%.o,$(DSPIC_CHECK_SRC))
+
+.PHONY: dspic dspic-check dspic-check-host dspic-check-int16 dspic-need-xc16 \
+        dspic-need-avr
+
+dspic-need-xc16:
+	@command -v $(XC16_CC) >/dev/null 2>&1 || { \
+	  echo "make dspic: '$(XC16_CC)' not found." >&2; \
+	  echo "  Install Microchip MPLAB XC16 (v1.70 or later; the free edition is enough)" >&2; \
+	  echo "  from https://www.microchip.com/xc16 and put its bin/ directory on PATH," >&2; \
+	  echo "  or give its path: make dspic XC16_CC=/opt/microchip/xc16/v2.10/bin/xc16-gcc" >&2; \
+	  echo "  Without XC16, 'make dspic-check' compile-checks the port and the board." >&2; \
+	  exit 1; }
+
+dspic: dspic-need-xc16
+	@mkdir -p $(DSPIC_OUT)
+	$(XC16_CC) -mcpu=33FJ32MC204 -omf=elf -std=gnu99 $(XC16_OPT) $(XC16_WARN) \
+	    $(DSPIC_INC) $(DSPIC_CORE_SRC) $(DSPIC_PORT_SRC) -o $(DSPIC_OUT)/mclv_foc.elf \
+	    -Wl,--heap=0,-Map=$(DSPIC_OUT)/mclv_foc.map,--report-mem
+	$(XC16_BIN2HEX) $(DSPIC_OUT)/mclv_foc.elf -omf=elf
+	@echo "dspic: $(DSPIC_OUT)/mclv_foc.hex"
+
+dspic-check: dspic-check-host dspic-check-int16
+	@echo "dspic-check: host link and 16-bit-int compile passed"
+
+dspic-check-host: $(DSPIC_CHECK)/mclv_foc_host.elf
+
+$(DSPIC_CHECK)/mclv_foc_host.elf: $(DSPIC_HOST_OBJ)
+	$(DSPIC_HOST_CC) $(DSPIC_HOST_OBJ) -o $@
+
+$(DSPIC_CHECK)/host/%.o: %.c $(DSPIC_DEPS)
+	@mkdir -p $(@D)
+	$(DSPIC_HOST_CC) -std=c99 -O2 $(DSPIC_WARN) $(DSPIC_INC) -I$(DSPIC_HAL)/stub -c $< -o $@
+
+dspic-need-avr:
+	@command -v $(DSPIC_AVR_CC) >/dev/null 2>&1 || { \
+	  echo "make dspic-check: '$(DSPIC_AVR_CC)' (a compiler with 16-bit int) not found." >&2; \
+	  echo "  Debian/Ubuntu: apt-get install gcc-avr avr-libc" >&2; \
+	  exit 1; }
+
+dspic-check-int16: $(DSPIC_INT16_OBJ)
+
+$(DSPIC_CHECK)/int16/%.o: %.c $(DSPIC_DEPS) | dspic-need-avr
+	@mkdir -p $(@D)
+	$(DSPIC_AVR_CC) $(DSPIC_AVR_FLAGS) $(DSPIC_WARN) $(DSPIC_INC) -I$(DSPIC_HAL)/stub -c $< -o $@
+
+# ------------------------------------------------------------------ stm32 --
+# make stm32: the firmware image for ST's STM3210B-MCKIT (STM32F103 + MB459),
+# built with arm-none-eabi-gcc and newlib-nano from the core, hal/stm32f10x
+# and boards/stm3210b_mckit (its userparms.h) -> build/stm32/foc_stm32f10x.
+# {elf,hex,bin,map} and a size report.
+#   STM32_PART=STM32F103xB   device: flash/RAM sizes and ST's density macro
+#                            (x8, xB, xC, xD, xE)
+#   STM32_OPT=-O2            optimisation (-Os for the smallest image)
+#   STM32_CMSIS="<dirs>"     build against ST's CMSIS headers (device and
+#                            core include folders, taken as system headers)
+#                            instead of hal/stm32f10x/stm32f10x_regs.h;
+#                            STM32_DEFS adds defines (for STM32Cube:
+#                            -DSTM32F103xB -DFOC_STM32_VENDOR_HEADER='"stm32f1xx.h"')
+STM32_PART   ?= STM32F103xB
+STM32_BOARD  := boards/stm3210b_mckit
+STM32_HAL    := hal/stm32f10x
+STM32_OUT    := build/stm32
+STM32_NAME   := $(STM32_OUT)/foc_stm32f10x
+STM32_PARMS  := $(abspath $(STM32_BOARD)/userparms.h)
+STM32_FLASH_TARGET := 12288
+# <part>: flash KB, RAM KB, ST's density macro, interrupt vectors
+STM32_PART_STM32F103x8 := 64 20 STM32F10X_MD 43
+STM32_PART_STM32F103xB := 128 20 STM32F10X_MD 43
+STM32_PART_STM32F103xC := 256 48 STM32F10X_HD 60
+STM32_PART_STM32F103xD := 384 64 STM32F10X_HD 60
+STM32_PART_STM32F103xE := 512 64 STM32F10X_HD 60
+STM32_PART_INFO := $(STM32_PART_$(STM32_PART))
+STM32_OPT    ?= -O2
+STM32_CC     := arm-none-eabi-gcc
+STM32_CFLAGS := -mcpu=cortex-m3 -mthumb $(STM32_OPT) -std=c99 -g -ffunction-sections \
+                -fdata-sections -fno-common -Wall -Wextra -Wconversion \
+                -Wsign-conversion -Wshadow -Wstrict-prototypes \
+                -Wmissing-prototypes -Werror -D$(word 3,$(STM32_PART_INFO)) \
+                -DFOC_USERPARMS_FILE='"$(STM32_PARMS)"' -Iinclude \
+                -I$(STM32_HAL) -I$(STM32_BOARD) \
+                $(if $(STM32_CMSIS),-DFOC_STM32_VENDOR_CMSIS $(addprefix -isystem ,$(STM32_CMSIS))) \
+                $(STM32_DEFS)
+STM32_LDFLAGS := -mcpu=cortex-m3 -mthumb -nostartfiles --specs=nano.specs \
+                 -Wl,--gc-sections -Wl,-Map=$(STM32_NAME).map -L$(STM32_OUT) \
+                 -T$(STM32_HAL)/stm32f10x.ld
+STM32_SRC    := $(wildcard src/*.c) $(wildcard $(STM32_HAL)/*.c) \
+                $(wildcard $(STM32_BOARD)/*.c)
+STM32_OBJ    := $(patsubst %.c,$(STM32_OUT)/obj/%.o,$(STM32_SRC))
+define STM32_NL
+
+
+endef
+
+.PHONY: stm32
+
+# When building the image: memory.ld for the part, and a copy of the flags
+# that is rewritten (rebuilding everything) only when they change.
+ifneq ($(filter stm32 $(STM32_OUT)/%,$(MAKECMDGOALS)),)
+ifeq ($(STM32_PART_INFO),)
+$(error STM32_PART=$(STM32_PART): unknown part (STM32F103x8, xB, xC, xD, xE))
+endif
+STM32_MEMORY := MEMORY$(STM32_NL){$(STM32_NL)    FLASH (rx) : ORIGIN = 0x08000000, LENGTH = $(word 1,$(STM32_PART_INFO))K$(STM32_NL)    RAM (rwx)  : ORIGIN = 0x20000000, LENGTH = $(word 2,$(STM32_PART_INFO))K$(STM32_NL)}
+$(shell mkdir -p $(STM32_OUT))
+ifneq ($(file <$(STM32_OUT)/memory.ld),$(STM32_MEMORY))
+$(file >$(STM32_OUT)/memory.ld,$(STM32_MEMORY))
+endif
+ifneq ($(file <$(STM32_OUT)/cflags),$(STM32_CFLAGS))
+$(file >$(STM32_OUT)/cflags,$(STM32_CFLAGS))
+endif
+endif
+
+stm32: $(STM32_NAME).hex $(STM32_NAME).bin
+	@arm-none-eabi-size $(STM32_NAME).elf
+	@arm-none-eabi-size $(STM32_NAME).elf | awk 'NR == 2 { printf \
+	  "stm32 ($(STM32_PART), $(STM32_OPT)): flash %d bytes (text %d + data %d, target %d), RAM %d bytes (data %d + bss %d)\n", \
+	  $$1 + $$2, $$1, $$2, $(STM32_FLASH_TARGET), $$2 + $$3, $$2, $$3 }'
+	@sh $(STM32_HAL)/check_image.sh $(STM32_NAME).elf $(word 4,$(STM32_PART_INFO))
+
+$(STM32_NAME).elf: $(STM32_OBJ) $(STM32_HAL)/stm32f10x.ld $(STM32_OUT)/memory.ld
+	$(STM32_CC) $(STM32_LDFLAGS) $(STM32_OBJ) -o $@
+
+$(STM32_NAME).hex: $(STM32_NAME).elf
+	arm-none-eabi-objcopy -O ihex $< $@
+
+$(STM32_NAME).bin: $(STM32_NAME).elf
+	arm-none-eabi-objcopy -O binary $< $@
+
+$(STM32_OUT)/obj/%.o: %.c $(STM32_OUT)/cflags
+	@mkdir -p $(@D)
+	$(STM32_CC) $(STM32_CFLAGS) -MMD -MP -c $< -o $@
+
+-include $(STM32_OBJ:.o=.d)

@@ -8,6 +8,17 @@
  * during the next period, whose middle is 1.5 periods ahead. */
 #define ADVANCE_GAIN Q15(1.5 * FOC_DTHETA_AT_BASE / 32768.0)
 
+#ifdef OPEN_LOOP_FUNCTIONING
+#define OPEN_LOOP_ONLY 1u
+#else
+#define OPEN_LOOP_ONLY 0u
+#endif
+#ifdef TUNING
+#define TUNING_RAMP 1u
+#else
+#define TUNING_RAMP 0u
+#endif
+
 static const foc_dq_t zero_dq = { 0, 0 };
 static const foc_ab_t zero_ab = { 0, 0 };
 static const foc_duty_t half_duty = { 16384, 16384, 16384, 1 };
@@ -28,11 +39,29 @@ static void outputs_off(foc_ctrl_t *c)
     c->i_ref = zero_dq;
 }
 
-static void trip(foc_ctrl_t *c, foc_fault_t fault)
+/* Raises every fault in `faults` (lowest bit first, so the first fault
+ * recorded is deterministic) and turns the outputs off. */
+static void trip(foc_ctrl_t *c, uint16_t faults)
 {
     foc_port_pwm_disable();
-    foc_faults_raise(&c->faults, fault);
+    for (uint16_t bit = 1u; bit != 0u && bit <= faults; bit = (uint16_t)(bit << 1)) {
+        if ((faults & bit) != 0u) {
+            foc_faults_raise(&c->faults, (foc_fault_t)bit);
+        }
+    }
     c->state = FOC_STATE_FAULT;
+    c->state_ticks = 0;
+}
+
+/* The counters and flags of one run (start-up, hand-over, stall, brake). */
+static void reset_run_state(foc_ctrl_t *c)
+{
+    c->converged_ticks = 0;
+    c->shorting = 0;
+    c->handover_id = 0;
+    c->start_ticks = 0;
+    c->unreliable_ticks = 0;
+    c->emf_low_ticks = 0;
 }
 
 void foc_init(foc_ctrl_t *c)
@@ -41,6 +70,10 @@ void foc_init(foc_ctrl_t *c)
     c->req.stop = 0;
     c->req.ack = 0;
     c->req.speed = 0;
+    c->opt.stop_mode = STOP_MODE;
+    c->opt.open_loop_only = OPEN_LOOP_ONLY;
+    c->opt.tuning = TUNING_RAMP;
+    c->opt.sensored_start = 0;
     foc_faults_clear(&c->faults);
     c->i_ab = zero_ab;
     c->i_dq = zero_dq;
@@ -50,18 +83,35 @@ void foc_init(foc_ctrl_t *c)
     foc_sc_init(&c->speed_ctrl);
     foc_fw_init(&c->fw);
     foc_bus_init(&c->bus, FOC_VDC_NOMINAL);
+    foc_protection_init(&c->protection);
+    foc_speed_stats_reset(&c->speed_stats);
+    foc_startup_begin(&c->startup, 1);
     c->est.kind = FOC_ESTIMATOR;
     c->samples.theta_sensor = 0;
+    c->direction = 1;
+    reset_run_state(c);
     outputs_off(c);
     const foc_est_input_t rest = { zero_ab, zero_ab, 0, 0 };
     foc_est_reset(&c->est, &rest, 1);
     enter(c, FOC_STATE_IDLE);
 }
 
-/* The current loop, once per period in RUN and STOP. */
-static void current_loop(foc_ctrl_t *c)
+/* The q voltage of a rotor locked to the forced frame: w (psi + Ld id). */
+static q15_t forced_vq(q15_t speed, q15_t id)
 {
-    c->i_ab = foc_cs_alphabeta(&c->current_sense, &c->samples);
+    const q15_t emf = foc_mul_q15_shift(speed, FOC_EMF_PER_SPEED_MANT, FOC_EMF_PER_SPEED_SHIFT);
+    const q15_t coupling = foc_mul_q15_shift(foc_mul_q15(speed, id), FOC_XD_MANT, FOC_XD_SHIFT);
+    return foc_add_q15(emf, coupling);
+}
+
+/* The current loop on angle `theta` turning at `speed`: every period in
+ * ALIGN, OPENLOOP, RUN, STOP and BRAKE (until the windings are shorted);
+ * in the forced frame of the start-up the q axis is voltage-driven
+ * (foc_cc_step_vq: damping).  The estimator runs on every period so that
+ * it has converged by the hand-over. */
+static void current_loop(foc_ctrl_t *c, uint16_t theta, q15_t speed, uint8_t forced)
+{
+    c->i_ab = foc_cs_alphabeta(&c->current_sense, &c->samples, c->i_ab);
 
     /* The voltage applied in the period that just ended was computed two
      * steps ago (the PWM unit applies duties one period late). */
@@ -70,11 +120,16 @@ static void current_loop(foc_ctrl_t *c)
     foc_est_step(&c->est, &in);
     c->v_ab_prev = c->v_ab;
 
-    c->i_dq = foc_park_q15(c->i_ab, foc_sincos_q15(c->est.theta));
-    c->v_dq = foc_cc_step(&c->current_ctrl, c->i_ref, c->i_dq, c->bus.v_max);
+    c->i_dq = foc_park_q15(c->i_ab, foc_sincos_q15(theta));
+    if (forced != 0u) {
+        c->v_dq = foc_cc_step_vq(&c->current_ctrl, c->i_ref.d, c->i_dq.d,
+                                 forced_vq(speed, c->i_ref.d), c->bus.v_max);
+    } else {
+        c->v_dq = foc_cc_step(&c->current_ctrl, c->i_ref, c->i_dq, c->bus.v_max);
+    }
 
-    const q15_t advance = foc_mul_q15(c->est.speed, ADVANCE_GAIN);
-    const uint16_t theta_v = (uint16_t)(c->est.theta + (uint16_t)advance);
+    const q15_t advance = foc_mul_q15(speed, ADVANCE_GAIN);
+    const uint16_t theta_v = (uint16_t)(theta + (uint16_t)advance);
     c->v_ab = foc_ipark_q15(c->v_dq, foc_sincos_q15(theta_v));
     c->duty = foc_svm_q15(foc_bus_compensate(&c->bus, c->v_ab));
     foc_port_set_duties(&c->duty);
@@ -85,48 +140,265 @@ void foc_fast_step(foc_ctrl_t *c)
 {
     foc_port_read_samples(&c->samples);
     if (foc_port_overcurrent_latched() != 0u) {
-        trip(c, FOC_FAULT_OVERCURRENT);
+        /* Once: the trip time starts the minimum time before an ack. */
+        if ((c->faults.active & (uint16_t)FOC_FAULT_OVERCURRENT) == 0u) {
+            trip(c, (uint16_t)FOC_FAULT_OVERCURRENT);
+        }
         return;
     }
     switch (c->state) {
     case FOC_STATE_CALIB:
         foc_cs_calib_add(&c->current_sense, &c->samples);
         break;
+    case FOC_STATE_ALIGN:
+    case FOC_STATE_OPENLOOP:
+        foc_startup_fast(&c->startup);
+        current_loop(c, foc_startup_angle(&c->startup), c->startup.speed, 1u);
+        break;
+    case FOC_STATE_BRAKE:
+        if (c->shorting == 0u) {
+            current_loop(c, c->est.theta, c->est.speed, 0u);
+        }
+        break;
     case FOC_STATE_RUN:
     case FOC_STATE_STOP:
-        current_loop(c);
+        current_loop(c, c->est.theta, c->est.speed, 0u);
         break;
     default:
         break;
     }
 }
 
-/* CALIB -> RUN: every block restarts from rest, the bridge starts at zero
- * voltage, then the state changes (the fast step runs the loop from then). */
-static void start_run(foc_ctrl_t *c)
+/* ------------------------------------------------------------ start-up -- */
+
+/* Starts (or restarts, for a reversal) in the direction of the speed
+ * command: every start-up variable is reset here. */
+static void begin_start(foc_ctrl_t *c)
 {
+    c->direction = (c->req.speed < 0) ? (int8_t)-1 : (int8_t)1;
+    const uint8_t on_sensor = c->opt.sensored_start;
     const foc_est_input_t in = { zero_ab, zero_ab, 0, c->samples.theta_sensor };
-    foc_est_reset(&c->est, &in, 1);
+    foc_est_reset(&c->est, &in, on_sensor);
     foc_cc_reset(&c->current_ctrl);
-    foc_sc_preset(&c->speed_ctrl, c->est.speed, 0);
     foc_fw_reset(&c->fw);
+    foc_speed_stats_reset(&c->speed_stats);
+    foc_startup_begin(&c->startup, c->direction);
+    reset_run_state(c);
     c->i_ref = zero_dq;
     c->v_ab = zero_ab;
     c->v_ab_prev = zero_ab;
     c->duty = half_duty;
     foc_port_set_duties(&c->duty);
     foc_port_pwm_enable();
+    if (c->est.use_sensor != 0u) {
+        foc_sc_preset(&c->speed_ctrl, c->est.speed, 0);
+        enter(c, FOC_STATE_RUN);
+    } else {
+        enter(c, FOC_STATE_ALIGN);
+    }
+}
+
+/* ST's convergence test on the estimated speed (seed 002) against the
+ * speed the rotor is driven at (`driven`: the forced speed, or the sensor's
+ * in a sensored start), plus the back-EMF check that rejects a held rotor
+ * the estimator "sees" turning. */
+static uint8_t estimator_converged(const foc_ctrl_t *c, q15_t driven)
+{
+    const int32_t mean = foc_speed_stats_mean(&c->speed_stats) * (int32_t)c->direction;
+    const int32_t forced = (int32_t)foc_abs_q15(driven);
+    return (uint8_t)(foc_speed_stats_reliable(&c->speed_stats, FOC_STARTUP_VARIANCE_THRESHOLD) &&
+                     mean >= FOC_STARTUP_MIN_SPEED &&
+                     mean * 256 >= forced * FOC_STARTUP_WINDOW_MIN_Q8 &&
+                     mean * 256 <= forced * FOC_STARTUP_WINDOW_MAX_Q8 &&
+                     foc_est_emf_consistent(&c->est, FOC_STALL_EMF_RATIO));
+}
+
+/* Counts consecutive convergence tests; 1 when there have been enough. */
+static uint8_t converged_long_enough(foc_ctrl_t *c, q15_t driven)
+{
+    c->converged_ticks = estimator_converged(c, driven) ? (uint8_t)(c->converged_ticks + 1u) : 0u;
+    return (uint8_t)(c->converged_ticks >= STARTUP_CONV_TESTS);
+}
+
+/* On to the estimator's angle: the current reference, held in the frame
+ * at `theta_from` (forced angle or sensor), is rotated into the estimated
+ * frame by d = theta_from - estimated angle (no step in current); the
+ * speed PI starts from that q current and the ramp from the estimated
+ * speed; the d part fades out over STARTUP_HANDOVER_TIME_S. */
+static void hand_over(foc_ctrl_t *c, uint16_t theta_from)
+{
+    const foc_sincos_t sc = foc_sincos_q15((uint16_t)(theta_from - c->est.est_theta));
+    const foc_ab_t rotated = foc_ipark_q15(c->i_ref, sc);
+    const foc_ab_t v_rotated = foc_ipark_q15(c->v_dq, sc);
+    const foc_dq_t v_est = { v_rotated.alpha, v_rotated.beta };
+    foc_cc_preset(&c->current_ctrl, v_est);
+    c->est.use_sensor = 0;
+    c->direction = (c->est.est_speed < 0) ? (int8_t)-1 : (int8_t)1;
+    c->i_ref.d = rotated.alpha;
+    c->i_ref.q = rotated.beta;
+    c->handover_id = c->i_ref.d;
+    foc_sc_preset(&c->speed_ctrl, c->est.est_speed, c->i_ref.q);
     enter(c, FOC_STATE_RUN);
 }
 
-/* Field weakening first (Id takes its share of the current limit), then
- * the speed PI within what is left. */
-static void speed_loop(foc_ctrl_t *c)
+static void startup_tick(foc_ctrl_t *c)
 {
+    if (c->start_ticks >= FOC_STARTUP_TIMEOUT_TICKS) {
+        trip(c, (uint16_t)FOC_FAULT_STARTUP_FAILED);
+        return;
+    }
+    if (c->state == FOC_STATE_ALIGN) {
+        if (foc_startup_align_tick(&c->startup) != 0u) {
+            enter(c, FOC_STATE_OPENLOOP);
+        }
+    } else {
+        const q15_t limit = (c->opt.open_loop_only != 0u) ? foc_abs_q15(c->req.speed)
+                                                          : FOC_OL_FINAL_SPEED;
+        foc_startup_ramp_tick(&c->startup, limit);
+        foc_speed_stats_push(&c->speed_stats, c->est.est_speed);
+        if (c->opt.open_loop_only == 0u) {
+            if (converged_long_enough(c, c->startup.speed) != 0u) {
+                hand_over(c, foc_startup_angle(&c->startup));
+                return;
+            }
+        } else {
+            c->start_ticks = 0; /* open loop on purpose: no timeout */
+        }
+    }
+    c->i_ref.d = c->startup.current;
+    c->i_ref.q = 0;
+}
+
+/* ---------------------------------------------------------- speed loop -- */
+
+/* Field weakening first (Id takes its share of the current limit, plus the
+ * hand-over current fading out), then the speed PI within what is left. */
+static void speed_loop(foc_ctrl_t *c, q15_t target)
+{
+    /* TUNING: the reference itself creeps toward the command. */
+    c->speed_ctrl.target = (c->opt.tuning != 0u)
+                               ? foc_slew_q15(c->speed_ctrl.ramped, target, FOC_TUNING_RAMP_STEP)
+                               : target;
     const q15_t v_mag = foc_mag_q15(c->v_dq.d, c->v_dq.q);
-    c->i_ref.d = foc_fw_step(&c->fw, c->speed_ctrl.ramped, v_mag, c->bus.v_max);
+    const q15_t id_fw = foc_fw_step(&c->fw, c->speed_ctrl.ramped, v_mag, c->bus.v_max);
+    c->handover_id = foc_slew_q15(c->handover_id, 0, FOC_HANDOVER_ID_STEP);
+    c->i_ref.d = foc_add_q15(id_fw, c->handover_id);
     foc_est_set_fw(&c->est, c->fw.inv_kfi, c->fw.ls_scale);
     c->i_ref.q = foc_sc_step(&c->speed_ctrl, c->est.speed, c->i_ref.d);
+}
+
+/* Step-out / stall (sensorless): ST's reliability statistic, and the
+ * back-EMF against the speed the estimator claims, which catches a locked
+ * rotor the statistic misses (a rotor jittering on the spot).  The
+ * statistic counts only while the reference is in the estimator's range:
+ * below it a ramp alone makes the 64-sample variance exceed mean^2 x 1/16. */
+static void stall_check(foc_ctrl_t *c)
+{
+    foc_speed_stats_push(&c->speed_stats, c->est.est_speed);
+    if (c->est.use_sensor != 0u || c->speed_stats.count < FOC_SPEED_STATS_N) {
+        return; /* nothing to check yet */
+    }
+    const uint8_t in_range = foc_abs_q15(c->speed_ctrl.ramped) >= FOC_STARTUP_MIN_SPEED;
+    /* reliable, and not far below the speed asked for (an estimate that
+     * settled at standstill is "reliable" too) */
+    const int32_t mean = (int32_t)foc_speed_stats_mean(&c->speed_stats) * c->direction;
+    const uint8_t reliable =
+        (uint8_t)(foc_speed_stats_reliable(&c->speed_stats, FOC_STALL_VARIANCE_THRESHOLD) &&
+                  mean >= FOC_STARTUP_MIN_SPEED / 2);
+    const uint8_t emf_ok = foc_est_emf_consistent(&c->est, FOC_STALL_EMF_RATIO);
+    c->unreliable_ticks = (reliable || !in_range) ? 0u : (uint16_t)(c->unreliable_ticks + 1u);
+    c->emf_low_ticks = emf_ok ? 0u : (uint16_t)(c->emf_low_ticks + 1u);
+    if (c->unreliable_ticks >= STALL_TICKS || c->emf_low_ticks >= STALL_TICKS) {
+        trip(c, (uint16_t)FOC_FAULT_SPEED_FEEDBACK);
+    }
+}
+
+/* A speed command of the other sign in a sensorless run: ramp down to the
+ * estimator's low-speed end, then start again the other way (the
+ * estimator cannot follow through standstill). */
+static uint8_t reversing(const foc_ctrl_t *c)
+{
+    return (uint8_t)(c->est.use_sensor == 0u && c->req.speed != 0 &&
+                     (c->req.speed < 0) != (c->direction < 0));
+}
+
+static void stop_or_brake(foc_ctrl_t *c)
+{
+    switch (c->opt.stop_mode) {
+    case STOP_MODE_COAST:
+        outputs_off(c);
+        enter(c, FOC_STATE_IDLE);
+        break;
+    case STOP_MODE_SHORT:
+        enter(c, FOC_STATE_BRAKE);
+        break;
+    default:
+        enter(c, FOC_STATE_STOP);
+        break;
+    }
+}
+
+static void run_tick(foc_ctrl_t *c)
+{
+    if (c->est.use_sensor != 0u && c->est.kind != FOC_EST_SENSORED &&
+        foc_abs_q15(c->est.speed) >= FOC_SENSORED_HANDOVER_SPEED) {
+        /* Sensored start: on to the estimator once it has converged. */
+        c->direction = (c->est.speed < 0) ? (int8_t)-1 : (int8_t)1;
+        if (converged_long_enough(c, c->est.speed) != 0u) {
+            hand_over(c, c->est.theta);
+        }
+    }
+    if (reversing(c)) {
+        speed_loop(c, 0);
+        if (foc_abs_q15(c->est.speed) <= (q15_t)(FOC_STARTUP_MIN_SPEED / 2)) {
+            begin_start(c);
+            return;
+        }
+    } else {
+        speed_loop(c, c->req.speed);
+    }
+    stall_check(c);
+    if (c->state == FOC_STATE_RUN && c->req.stop != 0u) {
+        stop_or_brake(c);
+    }
+}
+
+static int32_t speed_squared(q15_t s)
+{
+    return (int32_t)s * s; /* Q30 */
+}
+
+static void brake_tick(foc_ctrl_t *c)
+{
+    if (c->shorting != 0u) {
+        if (c->state_ticks >= FOC_SHORT_HOLD_TICKS) {
+            outputs_off(c);
+            c->shorting = 0;
+            enter(c, FOC_STATE_IDLE);
+        }
+        return;
+    }
+    speed_loop(c, 0);
+    if (speed_squared(c->est.speed) <= FOC_SHORT_SAFE_SPEED2) {
+        c->shorting = 1;
+        c->state_ticks = 0;
+        foc_port_low_sides_on();
+    }
+}
+
+static void fault_tick(foc_ctrl_t *c)
+{
+    outputs_off(c);
+    if (c->req.ack == 0u || c->state_ticks < FOC_ACK_MIN_TICKS) {
+        return;
+    }
+    foc_port_overcurrent_clear();
+    if (foc_port_overcurrent_latched() == 0u &&
+        foc_protection_causes_gone(&c->protection, c->faults.active, c->samples.vdc,
+                                   c->samples.temp) != 0u) {
+        foc_faults_clear(&c->faults);
+        enter(c, FOC_STATE_IDLE);
+    }
 }
 
 static void state_machine(foc_ctrl_t *c)
@@ -136,51 +408,42 @@ static void state_machine(foc_ctrl_t *c)
         if (c->req.start != 0u) {
             foc_cs_calib_start(&c->current_sense);
             outputs_off(c);
+            c->start_ticks = 0;
             enter(c, FOC_STATE_CALIB);
         }
         break;
     case FOC_STATE_CALIB:
         if (c->req.stop != 0u) {
             enter(c, FOC_STATE_IDLE);
-        } else if (c->current_sense.calibrated != 0u &&
-                   c->state_ticks >= FOC_CALIB_TICKS) {
-            start_run(c);
+        } else if (c->current_sense.calibrated != 0u && c->state_ticks >= FOC_CALIB_TICKS) {
+            begin_start(c);
+        }
+        break;
+    case FOC_STATE_ALIGN:
+    case FOC_STATE_OPENLOOP:
+        if (c->req.stop != 0u) {
+            outputs_off(c);
+            enter(c, FOC_STATE_IDLE);
+        } else {
+            startup_tick(c);
         }
         break;
     case FOC_STATE_RUN:
-        /* Sensored start: hand over to the estimator above a speed. */
-        if (c->est.use_sensor != 0u && c->est.kind != FOC_EST_SENSORED &&
-            foc_abs_q15(c->est.speed) >= FOC_SENSORED_HANDOVER_SPEED) {
-            c->est.use_sensor = 0;
-        }
-        c->speed_ctrl.target = c->req.speed;
-        speed_loop(c);
-        if (c->req.stop != 0u) {
-            enter(c, FOC_STATE_STOP);
-        }
+        run_tick(c);
         break;
     case FOC_STATE_STOP:
-        c->speed_ctrl.target = 0;
-        speed_loop(c);
-        if (c->speed_ctrl.ramped == 0 && foc_abs_q15(c->est.speed) <= FOC_STOP_SPEED) {
+        speed_loop(c, 0);
+        if (c->speed_ctrl.ramped == 0 &&
+            foc_abs_q15(c->est.speed) <= FOC_STOP_SPEED) {
             outputs_off(c);
             enter(c, FOC_STATE_IDLE);
         }
         break;
-    case FOC_STATE_FAULT:
-        outputs_off(c);
-        if (c->req.ack != 0u) {
-            foc_port_overcurrent_clear();
-            if (foc_port_overcurrent_latched() == 0u) {
-                foc_faults_clear(&c->faults);
-                enter(c, FOC_STATE_IDLE);
-            }
-        }
+    case FOC_STATE_BRAKE:
+        brake_tick(c);
         break;
     default:
-        /* ALIGN, OPENLOOP, BRAKE are not entered yet: stop safely. */
-        outputs_off(c);
-        enter(c, FOC_STATE_IDLE);
+        fault_tick(c);
         break;
     }
     /* Requests are one-shot: anything not acted on now is dropped. */
@@ -194,6 +457,13 @@ void foc_slow_step(foc_ctrl_t *c)
     foc_bus_update(&c->bus, c->samples.vdc);
     if (c->state_ticks < UINT16_MAX) {
         c->state_ticks++;
+    }
+    if (c->start_ticks < UINT16_MAX) {
+        c->start_ticks++;
+    }
+    const uint16_t faults = foc_protection_check(&c->protection, c->samples.vdc, c->samples.temp);
+    if (faults != 0u && c->state != FOC_STATE_FAULT) {
+        trip(c, faults);
     }
     state_machine(c);
 }

@@ -14,8 +14,14 @@ void foc_cc_init(foc_current_ctrl_t *cc)
 
 void foc_cc_reset(foc_current_ctrl_t *cc)
 {
-    foc_pi_preset(&cc->pi_d, 0);
-    foc_pi_preset(&cc->pi_q, 0);
+    const foc_dq_t zero = { 0, 0 };
+    foc_cc_preset(cc, zero);
+}
+
+void foc_cc_preset(foc_current_ctrl_t *cc, foc_dq_t v)
+{
+    foc_pi_preset(&cc->pi_d, v.d);
+    foc_pi_preset(&cc->pi_q, v.q);
 }
 
 /* sqrt(a^2 - b^2) for 0 <= |b|, a <= 1 in Q15; 0 when |b| >= a.
@@ -30,15 +36,32 @@ static q15_t circle_remainder(q15_t a, q15_t b)
     return (q15_t)foc_isqrt32((uint32_t)(a2 - b2));
 }
 
+/* The d axis, first: its PI limited to +-Vmax. */
+static q15_t d_axis(foc_current_ctrl_t *cc, q15_t id_ref, q15_t id_meas, q15_t v_max)
+{
+    foc_pi_set_limits(&cc->pi_d, (q15_t)-v_max, v_max);
+    return foc_pi_step(&cc->pi_d, foc_sub_q15(id_ref, id_meas));
+}
+
 foc_dq_t foc_cc_step(foc_current_ctrl_t *cc, foc_dq_t i_ref, foc_dq_t i_meas,
                      q15_t v_max)
 {
     foc_dq_t v;
-    foc_pi_set_limits(&cc->pi_d, (q15_t)-v_max, v_max);
-    v.d = foc_pi_step(&cc->pi_d, foc_sub_q15(i_ref.d, i_meas.d));
-
+    v.d = d_axis(cc, i_ref.d, i_meas.d, v_max);
     const q15_t vq_max = circle_remainder(v_max, v.d);
     foc_pi_set_limits(&cc->pi_q, (q15_t)-vq_max, vq_max);
     v.q = foc_pi_step(&cc->pi_q, foc_sub_q15(i_ref.q, i_meas.q));
+    return v;
+}
+
+foc_dq_t foc_cc_step_vq(foc_current_ctrl_t *cc, q15_t id_ref, q15_t id_meas, q15_t vq,
+                        q15_t v_max)
+{
+    foc_dq_t v;
+    v.d = d_axis(cc, id_ref, id_meas, v_max);
+    const q15_t vq_max = circle_remainder(v_max, v.d);
+    v.q = (vq > vq_max) ? vq_max : (vq < -vq_max) ? (q15_t)-vq_max : vq;
+    foc_pi_set_limits(&cc->pi_q, (q15_t)-vq_max, vq_max);
+    foc_pi_preset(&cc->pi_q, v.q);
     return v;
 }

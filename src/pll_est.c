@@ -32,7 +32,8 @@ void foc_pll_reset(foc_pll_t *p, uint16_t theta, q15_t speed, foc_ab_t i_now)
     const foc_dq_t e_dq = { 0, eq0 };
     const foc_ab_t e_ab = foc_ipark_q15(e_dq, foc_sincos_q15(theta));
 
-    p->theta32 = (uint32_t)theta << 16;
+    /* theta32 holds the angle of the next sample (as after a step). */
+    p->theta32 = ((uint32_t)theta << 16) + (uint32_t)((int32_t)speed * FOC_THETA32_PER_SPEED);
     p->theta = theta;
     p->omega = speed;
     foc_lpf_init(&p->ed, FOC_PLL_EMF_FILTER_K, 0);

@@ -26,23 +26,10 @@ q15_t foc_sc_iq_limit(q15_t id_ref)
     return (q15_t)foc_isqrt32((uint32_t)(lim2 - id2));
 }
 
-/* Moves `from` toward `to` by at most `step` (all Q15, step > 0). */
-static q15_t slew(q15_t from, q15_t to, q15_t step)
-{
-    const int32_t diff = (int32_t)to - (int32_t)from;
-    if (diff > step) {
-        return (q15_t)(from + step);
-    }
-    if (diff < -(int32_t)step) {
-        return (q15_t)(from - step);
-    }
-    return to;
-}
-
 q15_t foc_sc_step(foc_speed_ctrl_t *sc, q15_t speed_meas, q15_t id_ref)
 {
     const q15_t iq_max = foc_sc_iq_limit(id_ref);
-    sc->ramped = slew(sc->ramped, sc->target, FOC_SPEED_RAMP_STEP);
+    sc->ramped = foc_slew_q15(sc->ramped, sc->target, FOC_SPEED_RAMP_STEP);
     foc_pi_set_limits(&sc->pi, (q15_t)-iq_max, iq_max);
     return foc_pi_step(&sc->pi, foc_sub_q15(sc->ramped, speed_meas));
 }

@@ -38,16 +38,24 @@
 #define MOTOR_COULOMB_NM            1.0e-3   /* dry friction, Nm */
 
 /* ------------------------------------------------------ inverter / board -- */
+/* MB459 figures from ST's PMSM FOC library v2.0 for this kit (sources in
+ * docs/boards/stm3210b_mckit.md): bus divider BUS_ADC_CONV_RATIO 0.008
+ * (MC_Control_Param.h); phase current = X * 0.64 V / (32767 * Rshunt) with
+ * 0.22 ohm shunts, i.e. 0.64 V across the shunt swings the amplifier over
+ * half the ADC range (gain 2.58, offset mid-scale, output falling for
+ * current into the motor), ST's MAX_CURRENT 2.9 A for the Shinano; the
+ * heatsink NTC read as T = 14 degC + 195 degC x (V / 3.3 V)
+ * (MC_MotorControl_Layer.c). */
 #define BOARD_VDC_NOMINAL_V         24.0     /* DC bus, V (voltage base) */
-#define BOARD_VDC_FULL_SCALE_V      63.2     /* bus voltage at ADC full */
-                                             /* scale (divider 1/16, 3.3 V) */
+#define BOARD_VDC_FULL_SCALE_V      412.5    /* bus voltage at ADC full */
+                                             /* scale: 3.3 V / 0.008 */
 #define BOARD_CURRENT_FULL_SCALE_A  2.9      /* phase current at ADC full */
-                                             /* scale (assumed MB459 shunt */
-                                             /* and amplifier)           */
+                                             /* scale: 0.64 V / 0.22 ohm */
 #define BOARD_ADC_BITS              12       /* ADC resolution, bits */
 #define BOARD_ADC_VREF_V            3.3      /* ADC reference, V */
-#define BOARD_TEMP_V_AT_0C          0.5      /* temperature sensor output */
-#define BOARD_TEMP_V_PER_DEGC       0.01     /* at 0 degC and its slope */
+#define BOARD_TEMP_V_AT_0C          (-0.2369) /* NTC, linearised: output */
+#define BOARD_TEMP_V_PER_DEGC       0.016923 /* at 0 degC and its slope */
+                                             /* (-14 x 3.3 / 195, 3.3 / 195) */
 #define PWM_FREQUENCY_HZ            16000.0  /* PWM and control rate, Hz */
 #define PWM_DEADTIME_S              0.8e-6   /* dead time, s */
 #define CONTROL_SLOW_DIVIDER        8        /* PWM periods per slow tick */
@@ -84,6 +92,23 @@
 #define PLL_EMF_FILTER_TIME_S       0.2e-3
 #define PLL_SPEED_FILTER_TIME_S     1.0e-3
 #define PLL_LOW_SPEED_RPM           600.0
+/* Luenberger observer + PLL (ST): ST's defaults, see userparms.h.in. */
+#define LUENBERGER_K1_PER_S         (-12000.0) /* 1/s, < 0 */
+#define LUENBERGER_K2_V_PER_AS      85200.0    /* V/(A s), > 0 */
+#define LUENBERGER_F1               2048
+#define LUENBERGER_F2               8192
+#define LUENBERGER_PLL_KP                                                      \
+    (532.0 * MOTOR_MAX_SPEED_RPM * MOTOR_POLE_PAIRS / PWM_FREQUENCY_HZ)
+#define LUENBERGER_PLL_KI                                                      \
+    (1506742.0 * MOTOR_MAX_SPEED_RPM * MOTOR_POLE_PAIRS /                      \
+     (PWM_FREQUENCY_HZ * PWM_FREQUENCY_HZ))
+#define LUENBERGER_SPEED_FILTER_TIME_S 1.0e-3  /* speed output filter, s */
+/* Flux-linkage estimator (see userparms.h.in): correction toward the
+ * magnet-flux circle, learned radius, speed observer poles. */
+#define FLUX_CORR_MIN_RAD_S         30.0
+#define FLUX_CORR_PER_SPEED         1.5
+#define FLUX_MAG_PER_SPEED          0.075
+#define FLUX_SPEED_OBS_BW_RAD_S     800.0
 /* Sensored start (host test aid, boards with a position sensor): closed
  * loop on the sensor until this speed, then on the estimator. */
 #define SENSORED_HANDOVER_RPM       300.0
@@ -112,5 +137,69 @@
 #define CALIB_TIME_S                0.07     /* current-offset calibration */
 #define STOP_SPEED_RPM              50.0     /* STOP ramps down to this, then */
                                              /* turns the outputs off */
+
+/* ------------------------------------------------------------- start-up -- */
+/* ALIGN: the current rises to STARTUP_ALIGN_CURRENT_A in a first half of
+ * STARTUP_ALIGN_TIME_S at 90 degrees before the start angle, then holds it
+ * at the start angle for the second half (two positions, so a rotor 180
+ * degrees away still feels torque).  OPENLOOP: the forced angle accelerates
+ * to STARTUP_FINAL_SPEED_RPM in STARTUP_RAMP_TIME_S with a current ramped
+ * from STARTUP_CURRENT_FIRST_A to STARTUP_CURRENT_FINAL_A; the estimator runs
+ * alongside.  Hand-over to RUN only when the estimator has converged: for
+ * STARTUP_CONV_TESTS consecutive slow ticks the estimated speed is reliable
+ * (64-sample variance <= mean^2 x STARTUP_VARIANCE_THRESHOLD), its mean
+ * within STARTUP_SPEED_WINDOW_MIN..MAX x the forced speed and above
+ * STARTUP_MIN_SPEED_RPM, and its back-EMF matches its speed.  No
+ * convergence within STARTUP_TIMEOUT_S of `start`: fault STARTUP_FAILED. */
+#define STARTUP_ALIGN_CURRENT_A     1.5
+#define STARTUP_ALIGN_TIME_S        0.12
+#define STARTUP_CURRENT_FIRST_A     1.5
+#define STARTUP_CURRENT_FINAL_A     1.5
+#define STARTUP_FINAL_SPEED_RPM     500.0
+#define STARTUP_RAMP_TIME_S         0.25
+#define STARTUP_MIN_SPEED_RPM       250.0
+#define STARTUP_SPEED_WINDOW_MIN    0.8
+#define STARTUP_SPEED_WINDOW_MAX    1.2
+#define STARTUP_VARIANCE_THRESHOLD  0.0625
+#define STARTUP_CONV_TESTS          32
+#define STARTUP_TIMEOUT_S           1.0
+#define STARTUP_HANDOVER_TIME_S     0.05     /* forced d current fades out */
+/* AN1292's tuning aids: stay in open loop with the estimator running
+ * (OPEN_LOOP_FUNCTIONING), or ramp the speed reference slowly for
+ * field-weakening tuning (TUNING, at TUNING_RAMP_RPM_PER_S).  Define to
+ * enable. */
+/* #define OPEN_LOOP_FUNCTIONING */
+/* #define TUNING */
+#define TUNING_RAMP_RPM_PER_S       100.0
+
+/* ---------------------------------------------------------- supervision -- */
+/* Stall / step-out in RUN (and from the hand-over on): the estimated speed
+ * unreliable (variance >= mean^2 x threshold) for STALL_TICKS consecutive
+ * slow ticks, or its back-EMF below STALL_EMF_RATIO of what its speed
+ * implies for STALL_TICKS: fault SPEED_FEEDBACK. */
+#define STALL_VARIANCE_THRESHOLD    0.0625
+#define STALL_EMF_RATIO             0.5
+#define STALL_TICKS                 60
+/* Bus and temperature faults, with hysteresis for the acknowledge. */
+#define OVERVOLTAGE_V               32.0
+#define UNDERVOLTAGE_V              16.0
+#define BUS_HYSTERESIS_V            1.0
+#define OVERTEMP_DEGC               100.0
+#define TEMP_HYSTERESIS_DEGC        10.0
+#define FAULT_ACK_MIN_TIME_S        0.1      /* a fault stays at least this */
+
+/* -------------------------------------------------------------- braking -- */
+/* STOP_MODE_RAMP: speed ramps down, then outputs off.  STOP_MODE_COAST:
+ * outputs off at once.  STOP_MODE_SHORT: ramp down to the speed where the
+ * short-circuit current w psi / sqrt(R^2 + (w L)^2) stays within
+ * CURRENT_LIMIT_A, then all low sides on until stopped.  With
+ * BRAKE_RESISTOR_ENABLE 1 the resistor switches on above
+ * BRAKE_RESISTOR_ON_V and off below BRAKE_RESISTOR_OFF_V, and a bus over
+ * OVERVOLTAGE_V switches it instead of tripping (the trip then comes only
+ * at 1.2 x OVERVOLTAGE_V, a resistor that cannot cope). */
+#define STOP_MODE                   STOP_MODE_RAMP
+#define BRAKE_RESISTOR_ENABLE       0
+#define BRAKE_RESISTOR_ON_V         29.0
+#define BRAKE_RESISTOR_OFF_V        27.0
 
 #endif /* USERPARMS_H */

@@ -35,7 +35,16 @@
 #ifdef _Static_assert
 #undef _Static_assert
 #endif
+#if defined(__GNUC__) && (__GNUC__ * 100 + __GNUC_MINOR__) < 406
+/* XC16 (GCC 4.5) predates the keyword: a negative array size stops the
+ * build; the message is then in the line the compiler points at. */
+#define FOC_STATIC_ASSERT_CAT2(a, b) a##b
+#define FOC_STATIC_ASSERT_CAT(a, b) FOC_STATIC_ASSERT_CAT2(a, b)
+#define FOC_STATIC_ASSERT(cond, msg)                                           \
+    typedef char FOC_STATIC_ASSERT_CAT(foc_static_assert_line_, __LINE__)[(cond) ? 1 : -1]
+#else
 #define FOC_STATIC_ASSERT(cond, msg) _Static_assert(cond, msg)
+#endif
 
 #define FOC_PI_D 3.14159265358979323846
 #define FOC_SQRT3_D 1.73205080756887729353
@@ -148,6 +157,195 @@
 #define FOC_PLL_LOW_SPEED FOC_SPEED_Q15(PLL_LOW_SPEED_RPM)
 #define FOC_SENSORED_HANDOVER_SPEED FOC_SPEED_Q15(SENSORED_HANDOVER_RPM)
 
+/* --------------------------------------------- Luenberger observer -- */
+/* ST's constants (seed 002) in our bases: ST holds the current in units of
+ * Imax (ours: FOC_I_BASE_A), the voltage in Vmax (ours: FOC_V_BASE_V) and
+ * the EMF in Emax (ours: the back-EMF at SPEED_BASE_RPM, so an EMF's Q15
+ * amplitude equals the speed's Q15 value).  States: current Q15 x F1, EMF
+ * Q15 x F2, so C x (Q15 value) is a state increment with no shift:
+ *   C1 = F1 (1 - exp(-Rs T/Ls))              ST: F1 Rs/(Ls fs)
+ *   C2 = F1 K1 T                             ST: F1 K1/fs
+ *   C3 = F1 B Emax/Imax, C5 = F1 B Vmax/Imax ST: B = 1/(Ls fs)
+ *   C4 = F2 K2 T Imax/Emax                   ST: the same
+ * with B = (1 - exp(-Rs T/Ls))/Rs, the exact (zero-order-hold) winding
+ * response, instead of ST's Euler T/Ls.  The EMF rotation w T per period:
+ *   h = speed x C6 / 2^15 (rad, Q16), C6 = 2^16 w_base T
+ * then h x e >> (16 - log2 F2), the same product as ST's
+ * C6 = F2 F3 2 pi/65536 (speed in 1/65536 turn per period) with
+ * F3 = 2^(31 - log2 F2) split into two 16-bit multiplications. */
+#define FOC_LUEN_LS_H ((MOTOR_LD_H + MOTOR_LQ_H) / 2.0)
+#define FOC_LUEN_E_BASE_V (FOC_KFI_PU * FOC_V_BASE_V)
+#define FOC_LUEN_X (MOTOR_RS_OHM * FOC_TS_S / FOC_LUEN_LS_H) /* Rs T/Ls */
+/* (1 - exp(-x))/x by its series; error below x^5/720 (x < 0.5) */
+#define FOC_LUEN_ZOH                                                           \
+    (1.0 - FOC_LUEN_X / 2.0 + FOC_LUEN_X * FOC_LUEN_X / 6.0 -                  \
+     FOC_LUEN_X * FOC_LUEN_X * FOC_LUEN_X / 24.0 +                             \
+     FOC_LUEN_X * FOC_LUEN_X * FOC_LUEN_X * FOC_LUEN_X / 120.0)
+#define FOC_LUEN_G (FOC_LUEN_X * FOC_LUEN_ZOH)                   /* 1 - exp(-x) */
+#define FOC_LUEN_B_A_PER_V (FOC_TS_S / FOC_LUEN_LS_H * FOC_LUEN_ZOH) /* B */
+#define FOC_LUEN_C1_D (LUENBERGER_F1 * FOC_LUEN_G)
+#define FOC_LUEN_C2_D (LUENBERGER_F1 * LUENBERGER_K1_PER_S * FOC_TS_S)
+#define FOC_LUEN_C3_D (LUENBERGER_F1 * FOC_LUEN_B_A_PER_V * FOC_LUEN_E_BASE_V / FOC_I_BASE_A)
+#define FOC_LUEN_C4_D                                                          \
+    (LUENBERGER_F2 * LUENBERGER_K2_V_PER_AS * FOC_TS_S * FOC_I_BASE_A / FOC_LUEN_E_BASE_V)
+#define FOC_LUEN_C5_D (LUENBERGER_F1 * FOC_LUEN_B_A_PER_V * FOC_V_BASE_V / FOC_I_BASE_A)
+#define FOC_LUEN_C6_D (65536.0 * FOC_WE_BASE_RAD_S * FOC_TS_S)
+#define FOC_LUEN_ROUND(x) ((q15_t)((x) >= 0.0 ? (x) + 0.5 : (x) - 0.5))
+#define FOC_LUEN_C1 FOC_LUEN_ROUND(FOC_LUEN_C1_D)
+#define FOC_LUEN_C2 FOC_LUEN_ROUND(FOC_LUEN_C2_D)
+#define FOC_LUEN_C3 FOC_LUEN_ROUND(FOC_LUEN_C3_D)
+#define FOC_LUEN_C4 FOC_LUEN_ROUND(FOC_LUEN_C4_D)
+#define FOC_LUEN_C5 FOC_LUEN_ROUND(FOC_LUEN_C5_D)
+#define FOC_LUEN_C6 FOC_LUEN_ROUND(FOC_LUEN_C6_D)
+#define FOC_LUEN_F1_LOG2 ((uint8_t)(FOC_GAIN_SHIFT((double)LUENBERGER_F1) - 1))
+#define FOC_LUEN_F2_LOG2 ((uint8_t)(FOC_GAIN_SHIFT((double)LUENBERGER_F2) - 1))
+/* Observer error dynamics per axis (rotation aside): x = (current error
+ * after correction, EMF error), x(k+1) = M x(k) with
+ * det M = (1 + K1 T)(1 - G) and trace M = det M + 1 - K2 T B. */
+#define FOC_LUEN_DET ((1.0 + LUENBERGER_K1_PER_S * FOC_TS_S) * (1.0 - FOC_LUEN_G))
+#define FOC_LUEN_K2TB (LUENBERGER_K2_V_PER_AS * FOC_TS_S * FOC_LUEN_B_A_PER_V)
+/* PLL: ST's gains act on the EMF in Q15 of the EMF at maximum speed, which
+ * is sin(angle error) at maximum speed, and give the speed in 1/65536 turn
+ * per period, Kp over 2^14, Ki over 2^16.  Ours act on sin(angle error)
+ * (the EMF normalised by its amplitude) at every speed and give the speed
+ * in Q15 of SPEED_BASE_RPM: ST's loop at maximum speed, at all speeds
+ * (plus the EMF feed-forward, see luenberger.h). */
+#define FOC_LUEN_PLL_UNIT (32768.0 / FOC_DTHETA_AT_BASE)
+#define FOC_LUEN_PLL_KP_PU (LUENBERGER_PLL_KP / 16384.0 * FOC_LUEN_PLL_UNIT)
+#define FOC_LUEN_PLL_KI_PU (LUENBERGER_PLL_KI / 65536.0 * FOC_LUEN_PLL_UNIT)
+#define FOC_LUEN_PLL_KP_MANT FOC_GAIN_MANT(FOC_LUEN_PLL_KP_PU)
+#define FOC_LUEN_PLL_KP_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_LUEN_PLL_KP_PU))
+#define FOC_LUEN_PLL_KI Q15(FOC_LUEN_PLL_KI_PU)
+#define FOC_LUEN_SPEED_FILTER_K Q15(FOC_TS_S / (LUENBERGER_SPEED_FILTER_TIME_S + FOC_TS_S))
+
+FOC_STATIC_ASSERT(LUENBERGER_F1 >= 16 && LUENBERGER_F1 <= 16384 &&
+                  (LUENBERGER_F1 & (LUENBERGER_F1 - 1)) == 0,
+                  "LUENBERGER_F1 must be a power of two, 16..16384");
+FOC_STATIC_ASSERT(LUENBERGER_F2 >= 16 && LUENBERGER_F2 <= 16384 &&
+                  (LUENBERGER_F2 & (LUENBERGER_F2 - 1)) == 0,
+                  "LUENBERGER_F2 must be a power of two, 16..16384");
+FOC_STATIC_ASSERT(FOC_LUEN_X < 0.5,
+                  "MOTOR_RS_OHM / MOTOR_LD_H, MOTOR_LQ_H: winding time constant below "
+                  "2 PWM periods, too short for the Luenberger observer");
+FOC_STATIC_ASSERT(FOC_LUEN_C1_D >= 1.0 && FOC_LUEN_C1_D < 32767.0 &&
+                  FOC_LUEN_C5_D >= 16.0 && FOC_LUEN_C5_D < 32767.0,
+                  "LUENBERGER_F1 out of range for MOTOR_RS_OHM, MOTOR_LQ_H at "
+                  "PWM_FREQUENCY_HZ (observer constants C1, C5)");
+FOC_STATIC_ASSERT(FOC_LUEN_C3_D >= 16.0 && FOC_LUEN_C3_D < 32767.0,
+                  "LUENBERGER_F1 out of range for MOTOR_KE_VPK_PER_KRPM x SPEED_BASE_RPM "
+                  "(observer constant C3)");
+FOC_STATIC_ASSERT(FOC_LUEN_C2_D <= -16.0 && FOC_LUEN_C2_D > -32767.0,
+                  "LUENBERGER_K1_PER_S must be negative and LUENBERGER_K1_PER_S x "
+                  "LUENBERGER_F1 / PWM_FREQUENCY_HZ within -32767..-16");
+FOC_STATIC_ASSERT(FOC_LUEN_C4_D >= 16.0 && FOC_LUEN_C4_D < 32767.0,
+                  "LUENBERGER_K2_V_PER_AS must be positive and LUENBERGER_K2_V_PER_AS x "
+                  "LUENBERGER_F2 (observer constant C4) within 16..32767");
+/* Current update: |state| <= 2^15 F1 plus four products |C| 2^15. */
+FOC_STATIC_ASSERT(FOC_LUEN_C1_D - FOC_LUEN_C2_D + FOC_LUEN_C3_D + FOC_LUEN_C5_D +
+                  LUENBERGER_F1 < 65535.0,
+                  "LUENBERGER_F1 too large: the observer current update could "
+                  "overflow 32 bits");
+/* EMF update: |state| <= 2^15 F2, C4 2^15, rotation <= 2^15 F2/2. */
+FOC_STATIC_ASSERT(1.5 * LUENBERGER_F2 + FOC_LUEN_C4_D < 65535.0,
+                  "LUENBERGER_F2 or LUENBERGER_K2_V_PER_AS too large: the observer "
+                  "EMF update could overflow 32 bits");
+FOC_STATIC_ASSERT(FOC_LUEN_C6_D < 32767.0,
+                  "SPEED_BASE_RPM x MOTOR_POLE_PAIRS too high for PWM_FREQUENCY_HZ "
+                  "(Luenberger observer: over 0.5 rad per period at base speed)");
+FOC_STATIC_ASSERT(FOC_LUEN_DET > -1.0 && FOC_LUEN_DET < 1.0 && FOC_LUEN_K2TB > 0.0 &&
+                  FOC_LUEN_K2TB < 2.0 * (1.0 + FOC_LUEN_DET),
+                  "LUENBERGER_K1_PER_S, LUENBERGER_K2_V_PER_AS: the observer error "
+                  "dynamics are unstable at PWM_FREQUENCY_HZ (Jury test)");
+FOC_STATIC_ASSERT(FOC_LUEN_PLL_KP_PU > 0.0 && FOC_LUEN_PLL_KP_PU < 32768.0,
+                  "LUENBERGER_PLL_KP out of range");
+FOC_STATIC_ASSERT(FOC_LUEN_PLL_KI_PU > 1.0 / 32768.0 && FOC_LUEN_PLL_KI_PU < 1.0,
+                  "LUENBERGER_PLL_KI out of range (Ki per period must be < 1 pu)");
+FOC_STATIC_ASSERT(LUENBERGER_SPEED_FILTER_TIME_S >= 0.0,
+                  "LUENBERGER_SPEED_FILTER_TIME_S must be >= 0");
+
+/* ------------------------------------------------- flux estimator -- */
+/* Constants of 15 significant bits for foc_mul_norm32(): x = mant / 2^rshift
+ * with a Q15 mantissa in [0.5, 1), for 2^-15 <= x < 2^14. */
+#define FOC_NORM_RSHIFT(x)                                                     \
+    ((uint8_t)((x) >= 1.0 ? 15 - FOC_GAIN_SHIFT(x)                              \
+                          : 30 - FOC_GAIN_SHIFT((x) * 32768.0)))
+#define FOC_NORM_MANT(x) Q15((x) * (double)(1L << FOC_NORM_RSHIFT(x)) / 32768.0)
+#define FOC_NORM_OK(x) ((x) >= 1.0 / 32768.0 && (x) < 16384.0)
+/* Flux per unit: 1.0 is the flux whose back-EMF at speed 1.0 is
+ * 2^FOC_FLUX_SHIFT voltage bases, FOC_FLUX_BASE_WB = 2^FOC_FLUX_SHIFT x
+ * V_BASE / w_e_base.  The shift is the smallest that keeps the magnet flux
+ * plus Lq x the current base (the largest stator flux the ADC can show)
+ * within 0.5: 2x headroom for parameter error and transients. */
+#define FOC_FLUX_BASE0_WB (FOC_V_BASE_V / FOC_WE_BASE_RAD_S)
+#define FOC_FLUX_PEAK_PU0 ((FOC_FLUX_WB + MOTOR_LQ_H * FOC_I_BASE_A) / FOC_FLUX_BASE0_WB)
+#define FOC_FLUX_SHIFT FOC_GAIN_SHIFT(2.0 * FOC_FLUX_PEAK_PU0)
+#define FOC_FLUX_BASE_WB (FOC_FLUX_BASE0_WB * (double)(1L << FOC_FLUX_SHIFT))
+#define FOC_FLUX_PSI_M Q15(FOC_FLUX_WB / FOC_FLUX_BASE_WB)
+#define FOC_FLUX_LS_PU (MOTOR_LQ_H * FOC_I_BASE_A / FOC_FLUX_BASE_WB)
+#define FOC_FLUX_LS Q15(FOC_FLUX_LS_PU)
+#define FOC_FLUX_RS_MANT FOC_GAIN_MANT(FOC_RS_PU)
+#define FOC_FLUX_RS_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_RS_PU))
+/* Integrator: Q31 flux per PWM period per count of (v - Rs i) / 2 (Q15):
+ * w_e_base Ts 2^(17 - FOC_FLUX_SHIFT). */
+#define FOC_FLUX_KINT_X (FOC_WE_BASE_RAD_S * FOC_TS_S * 131072.0 / (double)(1L << FOC_FLUX_SHIFT))
+#define FOC_FLUX_KINT_MANT FOC_NORM_MANT(FOC_FLUX_KINT_X)
+#define FOC_FLUX_KINT_RSHIFT FOC_NORM_RSHIFT(FOC_FLUX_KINT_X)
+/* Correction gain per period: (k_min + c |w_e|) Ts = MIN + SPEED x |speed|
+ * (limited to 0.5 at run time). */
+#define FOC_FLUX_CORR_MIN_PU (FLUX_CORR_MIN_RAD_S * FOC_TS_S)
+#define FOC_FLUX_CORR_SPEED_PU (FLUX_CORR_PER_SPEED * FOC_WE_BASE_RAD_S * FOC_TS_S)
+#define FOC_FLUX_CORR_MIN Q15(FOC_FLUX_CORR_MIN_PU)
+#define FOC_FLUX_CORR_SPEED Q15(FOC_FLUX_CORR_SPEED_PU)
+/* Low-pass gain per period of the learned magnet flux: FLUX_MAG_PER_SPEED
+ * |w_e| Ts = FOC_FLUX_MAG_SPEED x |speed|. */
+#define FOC_FLUX_MAG_SPEED_PU (FLUX_MAG_PER_SPEED * FOC_WE_BASE_RAD_S * FOC_TS_S)
+#define FOC_FLUX_MAG_SPEED Q15(FOC_FLUX_MAG_SPEED_PU)
+/* Speed observer (speed_obs.h): three poles at -wo; l1 = 3 wo Ts per
+ * period (Q15), l2 = 3 wo^2 Ts as Q31 speed per count of angle error,
+ * l3 = wo^3 Ts / a_pu as Q27 current per count, the feed-forward a_pu Ts
+ * as Q31 speed per Q15 count of current, with a_pu = p 1.5 p flux I_BASE / J
+ * the electrical acceleration (rad/s^2) of 1.0 of q current. */
+#define FOC_SOBS_WO (FLUX_SPEED_OBS_BW_RAD_S)
+#define FOC_SOBS_RAD_PER_COUNT (2.0 * FOC_PI_D / 65536.0)
+#define FOC_SOBS_Q31_PER_RAD_S (2147483648.0 / FOC_WE_BASE_RAD_S)
+#define FOC_SOBS_ACCEL_PU                                                      \
+    (1.5 * MOTOR_POLE_PAIRS * MOTOR_POLE_PAIRS * FOC_FLUX_WB * FOC_I_BASE_A / MOTOR_INERTIA_KGM2)
+#define FOC_SOBS_L1_PU (3.0 * FOC_SOBS_WO * FOC_TS_S)
+#define FOC_SOBS_L1 Q15(FOC_SOBS_L1_PU)
+#define FOC_SOBS_L2_X                                                          \
+    (3.0 * FOC_SOBS_WO * FOC_SOBS_WO * FOC_TS_S * FOC_SOBS_RAD_PER_COUNT * FOC_SOBS_Q31_PER_RAD_S)
+#define FOC_SOBS_L2_MANT FOC_NORM_MANT(FOC_SOBS_L2_X)
+#define FOC_SOBS_L2_RSHIFT FOC_NORM_RSHIFT(FOC_SOBS_L2_X)
+#define FOC_SOBS_L3_X                                                          \
+    (FOC_SOBS_WO * FOC_SOBS_WO * FOC_SOBS_WO * FOC_TS_S * FOC_SOBS_RAD_PER_COUNT /  \
+     FOC_SOBS_ACCEL_PU * 134217728.0)
+#define FOC_SOBS_L3_MANT FOC_NORM_MANT(FOC_SOBS_L3_X)
+#define FOC_SOBS_L3_RSHIFT FOC_NORM_RSHIFT(FOC_SOBS_L3_X)
+#define FOC_SOBS_FF_X (FOC_SOBS_ACCEL_PU * FOC_TS_S * FOC_SOBS_Q31_PER_RAD_S / 32768.0)
+#define FOC_SOBS_FF_MANT FOC_NORM_MANT(FOC_SOBS_FF_X)
+#define FOC_SOBS_FF_RSHIFT FOC_NORM_RSHIFT(FOC_SOBS_FF_X)
+
+FOC_STATIC_ASSERT(FOC_FLUX_SHIFT <= 14 && FOC_FLUX_LS_PU < 0.5,
+                  "MOTOR_LQ_H / MOTOR_KE_VPK_PER_KRPM out of range for the flux format");
+FOC_STATIC_ASSERT(FOC_FLUX_KINT_X < 8192.0 && FOC_NORM_OK(FOC_FLUX_KINT_X),
+                  "SPEED_BASE_RPM x MOTOR_POLE_PAIRS / PWM_FREQUENCY_HZ out of range "
+                  "for the flux integrator");
+FOC_STATIC_ASSERT(FLUX_CORR_MIN_RAD_S > 0.0 && FOC_FLUX_CORR_MIN_PU <= 0.5,
+                  "FLUX_CORR_MIN_RAD_S must be > 0 and at most 0.5 x PWM_FREQUENCY_HZ");
+FOC_STATIC_ASSERT(FLUX_CORR_PER_SPEED >= 0.0 && FOC_FLUX_CORR_SPEED_PU < 1.0,
+                  "FLUX_CORR_PER_SPEED must be >= 0 and x the electrical base speed "
+                  "(rad/s) below PWM_FREQUENCY_HZ");
+FOC_STATIC_ASSERT(FLUX_MAG_PER_SPEED >= 0.0 && FOC_FLUX_MAG_SPEED_PU < 0.5,
+                  "FLUX_MAG_PER_SPEED must be >= 0 and x the electrical base speed "
+                  "(rad/s) below 0.5 x PWM_FREQUENCY_HZ");
+FOC_STATIC_ASSERT(FOC_SOBS_L1_PU < 0.5,
+                  "FLUX_SPEED_OBS_BW_RAD_S too high for PWM_FREQUENCY_HZ (3 wo Ts < 0.5)");
+FOC_STATIC_ASSERT(FOC_NORM_OK(FOC_SOBS_L2_X) && FOC_NORM_OK(FOC_SOBS_L3_X),
+                  "FLUX_SPEED_OBS_BW_RAD_S out of range for the speed observer gains "
+                  "(or MOTOR_INERTIA_KGM2 out of range)");
+FOC_STATIC_ASSERT(FOC_NORM_OK(FOC_SOBS_FF_X),
+                  "MOTOR_INERTIA_KGM2 out of range for the speed observer feed-forward");
+
 /* ------------------------------------------------- field weakening -- */
 #define FOC_FW_ID_MAX FOC_I_Q15(FW_ID_MAX_A)
 #define FOC_FW_MARGIN Q15(FW_VOLTAGE_MARGIN)
@@ -190,6 +388,94 @@
 /* ------------------------------------------------------- calibration -- */
 #define FOC_CALIB_PERIODS_LOG2 10 /* 1024 periods averaged for the offsets */
 #define FOC_CALIB_TICKS ((uint16_t)(CALIB_TIME_S / FOC_SLOW_TS_S + 0.5))
+
+/* ---------------------------------------------------------- start-up -- */
+/* Slow ticks of a duration, at least 1. */
+#define FOC_TICKS(seconds)                                                     \
+    ((uint16_t)((seconds) / FOC_SLOW_TS_S < 1.0 ? 1 : (seconds) / FOC_SLOW_TS_S + 0.5))
+/* A Q15 change spread over a number of ticks, at least 1 LSB per tick
+ * when the change is not 0. */
+#define FOC_STEP_PER_TICK(q15_change, ticks)                                  \
+    ((q15_t)((q15_change) == 0 ? 0                                             \
+             : (int32_t)(q15_change) / (int32_t)(ticks) == 0                   \
+                 ? 1 : (int32_t)(q15_change) / (int32_t)(ticks)))
+#define FOC_ALIGN_CURRENT FOC_I_Q15(STARTUP_ALIGN_CURRENT_A)
+#define FOC_ALIGN_HALF_TICKS FOC_TICKS(STARTUP_ALIGN_TIME_S / 2.0)
+#define FOC_ALIGN_CURRENT_STEP FOC_STEP_PER_TICK(FOC_ALIGN_CURRENT, FOC_ALIGN_HALF_TICKS)
+#define FOC_OL_FINAL_SPEED FOC_SPEED_Q15(STARTUP_FINAL_SPEED_RPM)
+#define FOC_OL_RAMP_TICKS FOC_TICKS(STARTUP_RAMP_TIME_S)
+/* Forced-speed step per slow tick in Q15.16, so the ramp time is exact. */
+#define FOC_OL_SPEED_STEP16                                                    \
+    ((int32_t)((double)FOC_OL_FINAL_SPEED * 65536.0 / FOC_OL_RAMP_TICKS + 0.5))
+#define FOC_OL_CURRENT_FIRST FOC_I_Q15(STARTUP_CURRENT_FIRST_A)
+#define FOC_OL_CURRENT_FINAL FOC_I_Q15(STARTUP_CURRENT_FINAL_A)
+/* Signed division: with a 16-bit int a uint16_t tick count would make it
+ * unsigned. */
+#define FOC_OL_CURRENT_STEP                                                    \
+    ((q15_t)(((int32_t)FOC_OL_CURRENT_FINAL - (int32_t)FOC_OL_CURRENT_FIRST) /  \
+             (int32_t)FOC_OL_RAMP_TICKS))
+/* Start-up q voltage of a rotor turning with the forced frame: back-EMF
+ * w psi plus the cross-coupling w Ld id, per unit of speed (and of speed x
+ * current), both in voltage per-unit. */
+#define FOC_EMF_PER_SPEED_PU FOC_KFI_PU
+#define FOC_EMF_PER_SPEED_MANT FOC_GAIN_MANT(FOC_EMF_PER_SPEED_PU)
+#define FOC_EMF_PER_SPEED_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_EMF_PER_SPEED_PU))
+#define FOC_XD_PU (FOC_WE_BASE_RAD_S * MOTOR_LD_H * FOC_I_BASE_A / FOC_V_BASE_V)
+#define FOC_XD_MANT FOC_GAIN_MANT(FOC_XD_PU)
+#define FOC_XD_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_XD_PU))
+#define FOC_STARTUP_MIN_SPEED FOC_SPEED_Q15(STARTUP_MIN_SPEED_RPM)
+/* Speed window as ratios in Q8 (256 = 1.0). */
+#define FOC_STARTUP_WINDOW_MIN_Q8 ((int32_t)(STARTUP_SPEED_WINDOW_MIN * 256.0 + 0.5))
+#define FOC_STARTUP_WINDOW_MAX_Q8 ((int32_t)(STARTUP_SPEED_WINDOW_MAX * 256.0 + 0.5))
+#define FOC_STARTUP_VARIANCE_THRESHOLD Q15(STARTUP_VARIANCE_THRESHOLD)
+#define FOC_STARTUP_TIMEOUT_TICKS FOC_TICKS(STARTUP_TIMEOUT_S)
+#define FOC_HANDOVER_TICKS FOC_TICKS(STARTUP_HANDOVER_TIME_S)
+/* The hand-over d current (at most the start-up current) fades at this
+ * rate per slow tick. */
+#define FOC_HANDOVER_ID_STEP FOC_STEP_PER_TICK(FOC_ALIGN_CURRENT, FOC_HANDOVER_TICKS)
+#define FOC_TUNING_RAMP_STEP                                                   \
+    ((q15_t)(TUNING_RAMP_RPM_PER_S * FOC_SLOW_TS_S / SPEED_BASE_RPM * 32768.0 < 1.0 \
+                 ? 1 : TUNING_RAMP_RPM_PER_S * FOC_SLOW_TS_S / SPEED_BASE_RPM * 32768.0 + 0.5))
+
+/* ------------------------------------------------------- supervision -- */
+#define FOC_STALL_VARIANCE_THRESHOLD Q15(STALL_VARIANCE_THRESHOLD)
+#define FOC_STALL_EMF_RATIO Q15(STALL_EMF_RATIO)
+#define FOC_OVERVOLTAGE FOC_VDC_Q15(OVERVOLTAGE_V)
+#define FOC_OVERVOLTAGE_HARD FOC_VDC_Q15(1.2 * OVERVOLTAGE_V)
+#define FOC_OVERVOLTAGE_CLEAR FOC_VDC_Q15(OVERVOLTAGE_V - BUS_HYSTERESIS_V)
+#define FOC_UNDERVOLTAGE FOC_VDC_Q15(UNDERVOLTAGE_V)
+#define FOC_UNDERVOLTAGE_CLEAR FOC_VDC_Q15(UNDERVOLTAGE_V + BUS_HYSTERESIS_V)
+/* Temperature thresholds as sensor readings, Q15 of BOARD_ADC_VREF_V. */
+#define FOC_TEMP_READING(degc)                                                 \
+    Q15((BOARD_TEMP_V_AT_0C + BOARD_TEMP_V_PER_DEGC * (degc)) / BOARD_ADC_VREF_V)
+#define FOC_OVERTEMP FOC_TEMP_READING(OVERTEMP_DEGC)
+#define FOC_OVERTEMP_CLEAR FOC_TEMP_READING(OVERTEMP_DEGC - TEMP_HYSTERESIS_DEGC)
+#define FOC_ACK_MIN_TICKS FOC_TICKS(FAULT_ACK_MIN_TIME_S)
+
+/* ----------------------------------------------------------- braking -- */
+/* Shorted windings carry w psi / sqrt(R^2 + (w L)^2), which stays within
+ * the current limit I for w^2 (psi^2 - (I L)^2) <= (I R)^2 (any speed when
+ * psi <= I L).  The safe speed squared, with a 10 % speed margin, as Q30 of
+ * the speed base squared (compared with speed x speed, no square root). */
+#define FOC_SHORT_IL (CURRENT_LIMIT_A * MOTOR_LD_H)
+#define FOC_SHORT_IR (CURRENT_LIMIT_A * MOTOR_RS_OHM)
+#define FOC_SHORT_SAFE_SPEED2_PU                                               \
+    (FOC_FLUX_WB <= FOC_SHORT_IL ? 1.0                                          \
+     : 0.81 * FOC_SHORT_IR * FOC_SHORT_IR /                                     \
+           ((FOC_FLUX_WB * FOC_FLUX_WB - FOC_SHORT_IL * FOC_SHORT_IL) *          \
+            FOC_WE_BASE_RAD_S * FOC_WE_BASE_RAD_S))
+#define FOC_SHORT_SAFE_SPEED2                                                  \
+    ((int32_t)(FOC_SHORT_SAFE_SPEED2_PU >= 1.0 ? 1073741823.0                   \
+                                               : FOC_SHORT_SAFE_SPEED2_PU * 1073741824.0))
+/* Shorted windings brake a slow rotor with the time constant
+ * J R / (1.5 p^2 psi^2); they stay shorted for 20 of them (at least
+ * 0.1 s), by which time the rotor stands still. */
+#define FOC_SHORT_TAU_S                                                        \
+    (MOTOR_INERTIA_KGM2 * MOTOR_RS_OHM /                                        \
+     (1.5 * MOTOR_POLE_PAIRS * MOTOR_POLE_PAIRS * FOC_FLUX_WB * FOC_FLUX_WB))
+#define FOC_SHORT_HOLD_TICKS FOC_TICKS(20.0 * FOC_SHORT_TAU_S < 0.1 ? 0.1 : 20.0 * FOC_SHORT_TAU_S)
+#define FOC_BRAKE_RESISTOR_ON FOC_VDC_Q15(BRAKE_RESISTOR_ON_V)
+#define FOC_BRAKE_RESISTOR_OFF FOC_VDC_Q15(BRAKE_RESISTOR_OFF_V)
 
 /* ------------------------------------------------------------ checks -- */
 FOC_STATIC_ASSERT(MOTOR_POLE_PAIRS >= 1 && MOTOR_POLE_PAIRS <= 64,
@@ -237,6 +523,23 @@ FOC_STATIC_ASSERT(PLL_EMF_FILTER_TIME_S >= 0.0 && PLL_SPEED_FILTER_TIME_S >= 0.0
                   "PLL filter time constants must be >= 0");
 FOC_STATIC_ASSERT(PLL_LOW_SPEED_RPM >= 0.0 && PLL_LOW_SPEED_RPM < SPEED_BASE_RPM,
                   "PLL_LOW_SPEED_RPM out of range");
+FOC_STATIC_ASSERT(STARTUP_CONV_TESTS >= 1 && STARTUP_CONV_TESTS <= 255,
+                  "STARTUP_CONV_TESTS must be 1..255");
+FOC_STATIC_ASSERT(STARTUP_TIMEOUT_S / FOC_SLOW_TS_S < 65000.0 && STALL_TICKS < 65000 &&
+                  FAULT_ACK_MIN_TIME_S / FOC_SLOW_TS_S < 65000.0,
+                  "STARTUP_TIMEOUT_S, STALL_TICKS or FAULT_ACK_MIN_TIME_S too long");
+FOC_STATIC_ASSERT(STARTUP_ALIGN_CURRENT_A <= CURRENT_LIMIT_A &&
+                  STARTUP_CURRENT_FIRST_A <= CURRENT_LIMIT_A &&
+                  STARTUP_CURRENT_FINAL_A <= CURRENT_LIMIT_A,
+                  "start-up currents must be within CURRENT_LIMIT_A");
+FOC_STATIC_ASSERT(STARTUP_MIN_SPEED_RPM < STARTUP_FINAL_SPEED_RPM * STARTUP_SPEED_WINDOW_MAX,
+                  "STARTUP_MIN_SPEED_RPM cannot be reached by the open-loop ramp");
+FOC_STATIC_ASSERT(UNDERVOLTAGE_V + BUS_HYSTERESIS_V < BOARD_VDC_NOMINAL_V &&
+                  OVERVOLTAGE_V - BUS_HYSTERESIS_V > BOARD_VDC_NOMINAL_V &&
+                  1.2 * OVERVOLTAGE_V < BOARD_VDC_FULL_SCALE_V,
+                  "bus thresholds must bracket BOARD_VDC_NOMINAL_V within the ADC range");
+FOC_STATIC_ASSERT(BRAKE_RESISTOR_OFF_V < BRAKE_RESISTOR_ON_V,
+                  "BRAKE_RESISTOR_OFF_V must be below BRAKE_RESISTOR_ON_V");
 FOC_STATIC_ASSERT(FW_ID_MAX_A >= 0.0 && FW_ID_MAX_A <= CURRENT_LIMIT_A,
                   "FW_ID_MAX_A must be within [0, CURRENT_LIMIT_A]");
 FOC_STATIC_ASSERT(FW_VOLTAGE_MARGIN > 0.5 && FW_VOLTAGE_MARGIN <= 1.0,

@@ -9,19 +9,30 @@
  *                    SVM -> duties for the next period.  Also checks the
  *                    hardware over-current latch every period.
  *   foc_slow_step()  every CONTROL_SLOW_DIVIDER periods, lower priority:
- *                    bus filter, speed ramp and PI, state machine.
+ *                    bus filter, protection, speed ramp and PI, field
+ *                    weakening, start-up sequencing, stall detection, the
+ *                    state machine.
  * Commands (from buttons, the monitor or focsim) only set requests, which
  * the slow step acts on: foc_cmd_start/stop/ack/speed.
  *
  * Concurrency: the fast step may preempt the slow step.  The slow step
- * writes the current references and state as single 16-bit stores (atomic
- * on both targets) and changes the state last, after preparing the blocks
- * the new state uses.
+ * writes the current references and the state as single 16-bit stores
+ * (atomic on both targets) and changes the state last, after preparing the
+ * blocks the new state uses.
  *
- * States: IDLE -> CALIB (outputs off, current offsets measured) -> RUN ->
- * STOP (ramp down, outputs off) -> IDLE; any fault -> FAULT (outputs off)
- * until acknowledged.  ALIGN, OPENLOOP and BRAKE are reserved for the
- * sensorless start-up and braking.
+ * States:
+ *   IDLE --start--> CALIB (outputs off, current offsets)
+ *     sensorless: --> ALIGN --> OPENLOOP (forced angle, estimator running)
+ *                 --estimator converged--> RUN (bumpless hand-over)
+ *                 no convergence within STARTUP_TIMEOUT_S: STARTUP_FAILED
+ *     sensored (or the host's sensored start): --> RUN
+ *   RUN --stop--> STOP (ramp down) | BRAKE (ramp to the safe speed, then
+ *                 windings shorted) | coast (outputs off) --> IDLE
+ *   RUN, reference of the other sign (sensorless): ramp down to low speed,
+ *                 then ALIGN and start again in the new direction.
+ *   any state --fault--> FAULT (outputs off) --ack after
+ *                 FAULT_ACK_MIN_TIME_S with every cause gone--> IDLE
+ * Protection (bus, temperature, over-current) is active in every state.
  */
 #ifndef FOC_CONTROLLER_H
 #define FOC_CONTROLLER_H
@@ -34,7 +45,10 @@
 #include "foc/faults.h"
 #include "foc/field_weakening.h"
 #include "foc/port.h"
+#include "foc/protection.h"
 #include "foc/speed_ctrl.h"
+#include "foc/speed_stats.h"
+#include "foc/startup.h"
 
 typedef enum {
     FOC_STATE_IDLE = 0,
@@ -47,6 +61,12 @@ typedef enum {
     FOC_STATE_FAULT
 } foc_state_t;
 
+typedef enum {
+    STOP_MODE_RAMP = 0,  /* ramp down, then outputs off */
+    STOP_MODE_COAST = 1, /* outputs off at once */
+    STOP_MODE_SHORT = 2  /* ramp to the safe speed, then low sides on */
+} foc_stop_mode_t;
+
 /* Requests from the application, consumed by the slow step. */
 typedef struct {
     uint8_t start;
@@ -55,10 +75,20 @@ typedef struct {
     q15_t speed;      /* speed command, Q15 of SPEED_BASE_RPM, signed */
 } foc_requests_t;
 
+/* Operating options, from userparms.h at foc_init; changeable in IDLE. */
+typedef struct {
+    foc_stop_mode_t stop_mode;
+    uint8_t open_loop_only; /* OPEN_LOOP_FUNCTIONING: never hand over */
+    uint8_t tuning;         /* TUNING: slow speed-reference ramp */
+    uint8_t sensored_start; /* run on the position sensor until the */
+                            /* hand-over speed (boards with a sensor) */
+} foc_options_t;
+
 typedef struct {
     foc_state_t state;
     foc_faults_t faults;
     foc_requests_t req;
+    foc_options_t opt;
 
     /* last period's measurements and commands (Q15 per-unit) */
     foc_samples_t samples;
@@ -77,11 +107,22 @@ typedef struct {
     foc_fw_t fw;
     foc_bus_t bus;
     foc_estimator_t est;
+    foc_startup_t startup;
+    foc_speed_stats_t speed_stats;
+    foc_protection_t protection;
 
-    uint16_t state_ticks; /* slow ticks spent in the present state */
+    int8_t direction;       /* +1 / -1: direction of the present run */
+    uint8_t converged_ticks; /* consecutive start-up convergence tests */
+    uint8_t shorting;       /* BRAKE: windings shorted */
+    q15_t handover_id;      /* forced d current fading out after hand-over */
+    uint16_t start_ticks;   /* slow ticks since `start` (start-up timeout) */
+    uint16_t unreliable_ticks; /* stall detection counters */
+    uint16_t emf_low_ticks;
+    uint16_t state_ticks;   /* slow ticks spent in the present state */
 } foc_ctrl_t;
 
-/* Everything to rest: IDLE, no fault, outputs off. */
+/* Everything to rest: IDLE, no fault, outputs off, options from
+ * userparms.h. */
 void foc_init(foc_ctrl_t *c);
 
 void foc_fast_step(foc_ctrl_t *c);

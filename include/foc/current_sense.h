@@ -26,7 +26,10 @@ void foc_cs_calib_start(foc_current_sense_t *cs);
 /* Adds one period's samples (bridge off); sets `calibrated` when done. */
 void foc_cs_calib_add(foc_current_sense_t *cs, const foc_samples_t *s);
 
-/* Offset-corrected alpha/beta current, Q15 of the current base. */
-foc_ab_t foc_cs_alphabeta(const foc_current_sense_t *cs, const foc_samples_t *s);
+/* Offset-corrected alpha/beta current, Q15 of the current base, from the
+ * valid phases; with fewer than two valid (no clean sampling window this
+ * period) it returns `previous`. */
+foc_ab_t foc_cs_alphabeta(const foc_current_sense_t *cs, const foc_samples_t *s,
+                          foc_ab_t previous);
 
 #endif /* FOC_CURRENT_SENSE_H */

@@ -13,6 +13,8 @@
 #define FOC_ESTIMATOR_H
 
 #include <stdint.h>
+#include "foc/flux_est.h"
+#include "foc/luenberger.h"
 #include "foc/pll_est.h"
 #include "foc/sensored.h"
 #include "foc/transforms.h"
@@ -40,6 +42,8 @@ typedef struct {
     q15_t est_speed;
     foc_sensored_t sensored;
     foc_pll_t pll;
+    foc_luenberger_t luenberger;
+    foc_flux_est_t flux;
 } foc_estimator_t;
 
 /* Selects the estimator (kept over resets); 0, or -1 if that kind is not
@@ -57,6 +61,12 @@ void foc_est_step(foc_estimator_t *est, const foc_est_input_t *in);
  * FOC_PLL_INVKFI_SHIFT and Ls/(2 Ls0) in Q15 (0.5 nominal); estimators
  * that model neither ignore them. */
 void foc_est_set_fw(foc_estimator_t *est, q15_t inv_kfi, q15_t ls_scale);
+
+/* 1 if the estimator's back-EMF magnitude is at least `ratio` (Q15) of
+ * what its own speed estimate implies (a held rotor that the estimator
+ * "sees" turning fails this).  A speed derived from the EMF magnitude
+ * itself (PLL) passes by construction. */
+uint8_t foc_est_emf_consistent(const foc_estimator_t *est, q15_t ratio);
 
 /* "sensored", "pll", "luenberger", "flux". */
 const char *foc_est_name(foc_est_kind_t kind);

@@ -29,7 +29,9 @@ typedef struct {
      * motor, sign and gain corrected by the port but offset NOT removed
      * (the core calibrates it).  Only phases flagged in `phases` are valid:
      * two of three on a 2-shunt board or a 3-shunt board in a sector where
-     * one low-side pulse is too short; all three otherwise. */
+     * one low-side pulse is too short; all three otherwise.  Fewer than two
+     * (no clean sampling window this period): the core keeps the previous
+     * period's current. */
     q15_t i_a, i_b, i_c;
     uint8_t phases;
     q15_t vdc;          /* bus voltage, Q15 of BOARD_VDC_FULL_SCALE_V, >= 0 */

@@ -86,10 +86,41 @@ static inline q31_t foc_add_q31(q31_t a, q31_t b)
     return a + b;
 }
 
+/* `from` moved toward `to` by at most `step` (> 0): a slew-rate limit.
+ * The result lies between `from` and `to`, so it cannot overflow. */
+static inline q15_t foc_slew_q15(q15_t from, q15_t to, q15_t step)
+{
+    const int32_t diff = (int32_t)to - (int32_t)from;
+    if (diff > step) {
+        return (q15_t)(from + step);
+    }
+    if (diff < -(int32_t)step) {
+        return (q15_t)(from - step);
+    }
+    return to;
+}
+
 /* Absolute value with -32768 mapped to 32767. */
 static inline q15_t foc_abs_q15(q15_t a)
 {
     return (a < 0) ? foc_sat_q15(-(int32_t)a) : a;
+}
+
+/* a x mant / 2^rshift, rounded to nearest (half up), as a 32-bit value.
+ * Holds a constant of any size with 15 significant bits: a Q15 mantissa in
+ * [0.5, 1) and a right shift 1..30 (config.h FOC_NORM_MANT/FOC_NORM_RSHIFT).
+ * |a * mant| <= 2^30, so the product and the rounding term fit int32_t. */
+static inline int32_t foc_mul_norm32(q15_t a, q15_t mant, uint8_t rshift)
+{
+    const int32_t p = (int32_t)a * (int32_t)mant;
+    return (p + (int32_t)(1L << (rshift - 1u))) >> rshift;
+}
+
+/* Q31 -> Q15, rounded to nearest (half up), saturated (INT32_MAX gives
+ * 32767, not 32768). */
+static inline q15_t foc_q31_to_q15(q31_t x)
+{
+    return foc_sat_q15(((x >> 15) + 1) >> 1);
 }
 
 #endif /* FOC_Q15_H */

@@ -33,4 +33,12 @@ foc_sincos_t foc_sincos_q15(uint16_t angle);
  * x and y share any common scale (Q15 or raw). */
 uint16_t foc_atan2_q15(q15_t y, q15_t x);
 
+/* Signed difference a - b of two angles, counts in [-32768, 32767]
+ * (the shorter way round). */
+static inline int16_t foc_angle_diff(uint16_t a, uint16_t b)
+{
+    const uint16_t d = (uint16_t)(a - b);
+    return (int16_t)((d >= 32768u) ? (int32_t)d - (int32_t)65536 : (int32_t)d);
+}
+
 #endif /* FOC_TRIG_H */

@@ -37,8 +37,10 @@ static void case_parse_all_commands(void)
         "1.6 plant b 0\n"
         "1.7 plant deadtime 1e-6\n"
         "1.8 plant noise 2\n"
-        "1.9 stop\n"
-        "2 end\n";
+        "1.9 plant buscap 4.7e-4\n"
+        "2 plant brakeres 10\n"
+        "2.1 stop\n"
+        "2.2 end\n";
     static const struct {
         scn_kind_t kind;
         scn_plant_t plant;
@@ -53,7 +55,8 @@ static void case_parse_all_commands(void)
         { SCN_PLANT, SCN_PLANT_LD, 1e-4 },  { SCN_PLANT, SCN_PLANT_LQ, 2.5e-4 },
         { SCN_PLANT, SCN_PLANT_FLUX, 0.0066 }, { SCN_PLANT, SCN_PLANT_J, 7.1e-6 },
         { SCN_PLANT, SCN_PLANT_B, 0 },      { SCN_PLANT, SCN_PLANT_DEADTIME, 1e-6 },
-        { SCN_PLANT, SCN_PLANT_NOISE, 2 },  { SCN_STOP, SCN_PLANT_RS, 0 },
+        { SCN_PLANT, SCN_PLANT_NOISE, 2 },  { SCN_PLANT, SCN_PLANT_BUSCAP, 4.7e-4 },
+        { SCN_PLANT, SCN_PLANT_BRAKERES, 10 }, { SCN_STOP, SCN_PLANT_RS, 0 },
         { SCN_END, SCN_PLANT_RS, 0 },
     };
     const size_t nwant = sizeof want / sizeof want[0];
@@ -73,7 +76,7 @@ static void case_parse_all_commands(void)
         TK_CHECK(fabs(e->t_s - 0.1 * (double)i) < 1e-12, "event %zu: t %g", i,
                  e->t_s);
     }
-    TK_CHECK(s.end_s == 2.0, "end=%g", s.end_s);
+    TK_CHECK(s.end_s == 2.2, "end=%g", s.end_s);
     TK_CHECK(strcmp(scn_kind_name(SCN_OVERCURRENT), "overcurrent") == 0, "name");
     TK_CHECK(strcmp(scn_plant_name(SCN_PLANT_DEADTIME), "deadtime") == 0, "name");
     scn_free(&s);

@@ -30,8 +30,12 @@ void est_measure(foc_est_kind_t kind, const est_case_t *c, est_result_t *out)
              "%s\n0 angle %g\n0 start\n%g speed %g\n%g speed %g\n%g load %g\n%g end\n",
              c->plant ? c->plant : "", c->angle_deg, t_first, first, t_target,
              c->speed_rpm, t_load, c->load_nm, t_end);
+    sim_options_t opt;
+    sim_default_options(&opt);
+    opt.estimator = kind;
+    opt.sensored_start = 1;
     run_t r;
-    run_scenario(text, kind, &r);
+    run_scenario_with(text, &opt, &r);
 
     double sum_e2 = 0.0, peak = 0.0, sum_s2 = 0.0, sum_speed = 0.0;
     size_t n = 0;

@@ -3,8 +3,9 @@
  * the figures issue-level acceptance asks for, measured the same way for
  * every estimator.
  *
- * A run: rotor at a given initial angle, start (sensored start, hand-over
- * to the estimator at SENSORED_HANDOVER_RPM), go to max(|target|, 400 rpm)
+ * A run: rotor at a given initial angle, start with the sensored start
+ * (the issue's "after a sensored start": the model's angle until
+ * SENSORED_HANDOVER_RPM, then the estimator), go to max(|target|, 400 rpm)
  * in the target's direction, then to the target, then the load; the
  * measurement window is the last 0.2 s, once speed and load have settled.
  */

@@ -13,14 +13,14 @@ cat > "$dir/short.scn" <<'SCN'
 # short run
 0 start
 0.1 speed 800   # trailing comment
-0.3 end
+0.8 end
 SCN
 "$focsim" --scenario "$dir/short.scn" --csv "$dir/short.csv" --plot "$dir/short.svg" \
     --decimate 10 > "$dir/summary.txt"
 check "run exits 0" "[ $? -eq 0 ]"
 check "csv header" "head -1 '$dir/short.csv' | grep -qx 't_s,state,fault,speed_ref_rpm,speed_rpm,speed_est_rpm,theta_e_deg,theta_est_deg,id_a,iq_a,id_ref_a,iq_ref_a,vd_v,vq_v,vdc_v,torque_nm,ia_a,ib_a,ic_a'"
 rows=$(($(wc -l < "$dir/short.csv") - 1))
-check "decimated rows (6001 periods / 10 -> 601, got $rows)" "[ $rows -eq 601 ]"
+check "decimated rows (16001 periods / 10 -> 1601, got $rows)" "[ $rows -eq 1601 ]"
 check "svg written" "grep -q '<svg' '$dir/short.svg'"
 for key in final_state fault closed_loop_time_s speed_rpm_final; do
     check "summary has $key" "grep -q '^$key=' '$dir/summary.txt'"

@@ -3,8 +3,17 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 void run_scenario(const char *text, foc_est_kind_t est, run_t *out)
+{
+    sim_options_t opt;
+    sim_default_options(&opt);
+    opt.estimator = est;
+    run_scenario_with(text, &opt, out);
+}
+
+void run_scenario_with(const char *text, const sim_options_t *opt, run_t *out)
 {
     scn_t scn;
     char err[256];
@@ -13,8 +22,7 @@ void run_scenario(const char *text, foc_est_kind_t est, run_t *out)
         exit(2);
     }
     static sim_t sim;
-    const sim_options_t opt = { est, 1u, -1 };
-    if (sim_init(&sim, &opt, &scn, err, sizeof err) != 0) {
+    if (sim_init(&sim, opt, &scn, err, sizeof err) != 0) {
         fprintf(stderr, "sim error: %s\n", err);
         exit(2);
     }
@@ -90,6 +98,36 @@ double run_max_abs_id(const run_t *r, double t0, double t1)
     double m = 0.0;
     for (size_t k = run_index_at(r, t0); k < r->n && r->rows[k].t_s < t1; k++) {
         m = fmax(m, fabs(r->rows[k].id_a));
+    }
+    return m;
+}
+
+double run_first_state(const run_t *r, double t0, const char *state)
+{
+    for (size_t k = run_index_at(r, t0); k < r->n; k++) {
+        if (strcmp(r->rows[k].state, state) == 0) {
+            return r->rows[k].t_s;
+        }
+    }
+    return -1.0;
+}
+
+double run_first_fault(const run_t *r, double t0, const char *fault)
+{
+    for (size_t k = run_index_at(r, t0); k < r->n; k++) {
+        if (strcmp(r->rows[k].fault, fault) == 0) {
+            return r->rows[k].t_s;
+        }
+    }
+    return -1.0;
+}
+
+double run_max_phase_current(const run_t *r, double t0, double t1)
+{
+    double m = 0.0;
+    for (size_t k = run_index_at(r, t0); k < r->n && r->rows[k].t_s < t1; k++) {
+        const sim_row_t *w = &r->rows[k];
+        m = fmax(m, fmax(fabs(w->ia_a), fmax(fabs(w->ib_a), fabs(w->ic_a))));
     }
     return m;
 }

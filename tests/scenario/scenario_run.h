@@ -19,7 +19,11 @@ typedef struct {
     int on_estimator;     /* at the end the loop ran on the estimator */
 } run_t;
 
-/* Parses and runs `text`; aborts the test program on a parse error. */
+/* Parses and runs `text` with the given options; exits the test program
+ * on a parse or set-up error. */
+void run_scenario_with(const char *text, const sim_options_t *opt, run_t *out);
+
+/* The same with userparms.h's options and estimator `est`. */
 void run_scenario(const char *text, foc_est_kind_t est, run_t *out);
 void run_free(run_t *r);
 
@@ -33,6 +37,14 @@ double run_last_outside(const run_t *r, double t0, double t1, double target,
 
 /* Largest speed in [t0, t1) (smallest when `below` is non-zero). */
 double run_extreme_speed(const run_t *r, double t0, double t1, int below);
+
+/* First time at or after t0 at which the state is `state` (or the fault
+ * is `fault`, for run_first_fault); -1 if never. */
+double run_first_state(const run_t *r, double t0, const char *state);
+double run_first_fault(const run_t *r, double t0, const char *fault);
+
+/* Largest true |phase current| in [t0, t1). */
+double run_max_phase_current(const run_t *r, double t0, double t1);
 
 /* Largest |id| in [t0, t1). */
 double run_max_abs_id(const run_t *r, double t0, double t1);

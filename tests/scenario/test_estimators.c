@@ -20,6 +20,9 @@ typedef struct {
 } limits_t;
 
 static const limits_t pll_limits = { FOC_EST_PLL, 3.0, 6.0 };
+/* Flux: the issue gives only RMS <= 5 deg; 10 deg peak is our choice. */
+static const limits_t flux_limits = { FOC_EST_FLUX, 5.0, 10.0 };
+static const limits_t luen_limits = { FOC_EST_LUENBERGER, 3.0, 6.0 };
 
 static void check_case(const limits_t *lim, const char *label, const est_case_t *c,
                        double rms_max, double peak_max)
@@ -85,6 +88,18 @@ static void case_pll_speeds_and_loads(void) { speeds_and_loads(&pll_limits); }
 static void case_pll_reverse(void) { reverse(&pll_limits); }
 static void case_pll_detuned_motor(void) { detuned(&pll_limits); }
 static void case_pll_lowest_speed(void) { lowest_speed(&pll_limits); }
+static void case_flux_speeds_and_loads(void) { speeds_and_loads(&flux_limits); }
+static void case_flux_reverse(void) { reverse(&flux_limits); }
+static void case_flux_detuned_motor(void) { detuned(&flux_limits); }
+static void case_flux_lowest_speed(void) { lowest_speed(&flux_limits); }
+static void case_luenberger_speeds_and_loads(void) { speeds_and_loads(&luen_limits); }
+static void case_luenberger_reverse(void) { reverse(&luen_limits); }
+static void case_luenberger_detuned_motor(void) { detuned(&luen_limits); }
+static void case_luenberger_lowest_speed(void) { lowest_speed(&luen_limits); }
 
 TK_CASES(TK_CASE(case_pll_speeds_and_loads), TK_CASE(case_pll_reverse),
-         TK_CASE(case_pll_detuned_motor), TK_CASE(case_pll_lowest_speed))
+         TK_CASE(case_pll_detuned_motor), TK_CASE(case_pll_lowest_speed),
+         TK_CASE(case_flux_speeds_and_loads), TK_CASE(case_flux_reverse),
+         TK_CASE(case_flux_detuned_motor), TK_CASE(case_flux_lowest_speed),
+         TK_CASE(case_luenberger_speeds_and_loads), TK_CASE(case_luenberger_reverse),
+         TK_CASE(case_luenberger_detuned_motor), TK_CASE(case_luenberger_lowest_speed))

@@ -136,8 +136,8 @@ static void case_bus_compensation(void)
 static void case_overcurrent_latch_and_restart(void)
 {
     run_t r;
-    run_scenario("0 start\n0.1 speed 1000\n0.3 overcurrent\n0.35 start\n0.4 ack\n"
-                 "0.45 start\n0.9 end\n",
+    run_scenario("0 start\n0.1 speed 1000\n0.3 overcurrent\n0.35 start\n0.45 ack\n"
+                 "0.5 start\n0.95 end\n",
                  FOC_EST_SENSORED, &r);
     const size_t k = run_index_at(&r, 0.3);
     TK_CHECK(k + 1 < r.n, "run too short");
@@ -145,13 +145,13 @@ static void case_overcurrent_latch_and_restart(void)
     TK_CHECK(trip->state[0] == 'F', "state at the fault period: %s", trip->state);
     TK_CHECK(trip->fault[0] == 'O', "fault: %s", trip->fault);
     /* the start at 0.35 s is refused while the fault is latched */
-    const sim_row_t *before_ack = &r.rows[run_index_at(&r, 0.399)];
+    const sim_row_t *before_ack = &r.rows[run_index_at(&r, 0.449)];
     TK_CHECK(before_ack->state[0] == 'F', "state before ack: %s", before_ack->state);
     /* bridge off: the current decays within a few periods (back-EMF < Vdc) */
     const sim_row_t *after = &r.rows[run_index_at(&r, 0.303)];
     const double i_after = fmax(fabs(after->ia_a), fabs(after->ib_a));
     TK_CHECK(i_after < 0.05, "current %.3f A 3 ms after the trip", i_after);
-    const double settle = run_last_outside(&r, 0.45, 0.9, 1000.0, 10.0) - 0.45;
+    const double settle = run_last_outside(&r, 0.5, 0.95, 1000.0, 10.0) - 0.5;
     TK_CHECK(r.final_state == FOC_STATE_RUN && settle < 0.4,
              "restart: state %s, settle %.1f ms", foc_state_name(r.final_state), settle * 1e3);
     run_free(&r);

@@ -191,6 +191,39 @@ static void case_abs(void)
              foc_abs_q15(Q15_MIN));
 }
 
+/* a x mant / 2^rshift against the exactly rounded value (half up), for
+ * every a and a spread of mantissas and shifts, extremes included. */
+static void case_mul_norm32(void)
+{
+    static const q15_t mants[] = { 16384, 20560, 24577, 32767 };
+    static const uint8_t shifts[] = { 1, 4, 15, 30 };
+    for (size_t m = 0; m < sizeof mants / sizeof mants[0]; m++) {
+        for (size_t s = 0; s < sizeof shifts / sizeof shifts[0]; s++) {
+            for (int32_t a = -32768; a <= 32767; a++) {
+                const double x = (double)a * mants[m] / (double)(1L << shifts[s]);
+                const int32_t want = (int32_t)floor(x + 0.5);
+                const int32_t got = foc_mul_norm32((q15_t)a, mants[m], shifts[s]);
+                TK_CHECK(got == want, "a=%ld mant=%d rshift=%u: %ld != %ld", (long)a, mants[m],
+                         shifts[s], (long)got, (long)want);
+            }
+        }
+    }
+}
+
+/* Q31 -> Q15: round half up, saturate at the top. */
+static void case_q31_to_q15(void)
+{
+    static const int32_t xs[] = { 0, 32767, 32768, 65535, 65536, -32768, -32769, -65536,
+                                  INT32_MAX, INT32_MIN, 0x7FFF7FFF, 0x7FFF8000 };
+    for (size_t i = 0; i < sizeof xs / sizeof xs[0]; i++) {
+        double want = floor((double)xs[i] / 65536.0 + 0.5);
+        want = want > 32767.0 ? 32767.0 : want;
+        TK_CHECK(foc_q31_to_q15(xs[i]) == (q15_t)want, "x=%ld: %d != %.0f", (long)xs[i],
+                 foc_q31_to_q15(xs[i]), want);
+    }
+}
+
 TK_CASES(TK_CASE(case_sat), TK_CASE(case_add_sub), TK_CASE(case_mul),
          TK_CASE(case_mul_shift), TK_CASE(case_add_q31),
-         TK_CASE(case_q15_macro), TK_CASE(case_abs))
+         TK_CASE(case_q15_macro), TK_CASE(case_abs), TK_CASE(case_mul_norm32),
+         TK_CASE(case_q31_to_q15))

@@ -203,8 +203,21 @@ static void case_atan2_inverts_sincos(void)
     TK_CHECK(worst <= ATAN_DEG, "max error %.4f deg", worst);
 }
 
+/* Signed angle difference: the shorter way round, both wraps. */
+static void case_angle_diff(void)
+{
+    for (int32_t d = -32768; d <= 32767; d += 7) {
+        for (uint32_t b = 0; b < 65536u; b += 4099u) {
+            const uint16_t a = (uint16_t)((int32_t)b + d);
+            TK_CHECK(foc_angle_diff(a, (uint16_t)b) == d, "a=%u b=%lu: %d != %ld", a,
+                     (unsigned long)b, foc_angle_diff(a, (uint16_t)b), (long)d);
+        }
+    }
+    TK_CHECK(foc_angle_diff(0, 32768) == -32768, "half turn: %d", foc_angle_diff(0, 32768));
+}
+
 TK_CASES(TK_CASE(case_sin_exhaustive), TK_CASE(case_cos_exhaustive),
          TK_CASE(case_sincos_consistent), TK_CASE(case_atan2_dense),
          TK_CASE(case_atan2_small_magnitude),
          TK_CASE(case_atan2_axes_and_edges),
-         TK_CASE(case_atan2_inverts_sincos))
+         TK_CASE(case_atan2_inverts_sincos), TK_CASE(case_angle_diff))

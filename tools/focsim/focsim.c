@@ -4,6 +4,12 @@
  *   focsim [--estimator sensored|pll|luenberger|flux] [--scenario FILE]
  *          [--csv FILE] [--plot FILE.svg] [--seed N] [--decimate N]
  *          [--field-weakening off|table|voltage]
+ *          [--monitor FILE [--monitor-out FILE]]
+ *
+ * --monitor runs a script of timed monitor commands ("<time_s> <command>"
+ * lines, simmon.h) against the controller, with a scope buffer sampled
+ * after every fast step; what the monitor answers (scope dumps included)
+ * goes to --monitor-out, or to standard output.
  *
  * Without --estimator it uses the one userparms.h selects (FOC_ESTIMATOR);
  * without --scenario it runs tools/scenarios/default.scn.  Prints a summary
@@ -18,6 +24,7 @@
 
 #include "foc/config.h"
 #include "sim.h"
+#include "simmon.h"
 #include "svgplot.h"
 
 #ifndef FOCSIM_DEFAULT_SCENARIO
@@ -25,13 +32,14 @@
 #endif
 
 typedef struct {
-    const char *estimator;
+    const char *estimator; /* name, for the plot title and summary */
     const char *scenario;
     const char *csv;
     const char *plot;
-    const char *fw;
-    unsigned long seed;
     unsigned long decimate;
+    const char *monitor;     /* monitor script, or NULL */
+    const char *monitor_out; /* its output file, NULL: standard output */
+    sim_options_t sim;
 } cli_t;
 
 /* What the plot needs, one entry per PWM period. */
@@ -44,11 +52,11 @@ typedef struct {
 
 static void usage(FILE *f)
 {
-    fputs("usage: focsim [--estimator sensored|pll|luenberger|flux] "
-          "[--scenario FILE]\n"
-          "              [--csv FILE] [--plot FILE.svg] [--seed N] "
-          "[--decimate N]\n"
-          "              [--field-weakening off|table|voltage]\n",
+    fputs("usage: focsim [--estimator sensored|pll|luenberger|flux] [--scenario FILE]\n"
+          "              [--csv FILE] [--plot FILE.svg] [--seed N] [--decimate N]\n"
+          "              [--field-weakening off|table|voltage] [--stop-mode ramp|coast|short]\n"
+          "              [--brake-resistor on|off] [--sensored-start]\n"
+          "              [--monitor FILE [--monitor-out FILE]]\n",
           f);
 }
 
@@ -64,48 +72,85 @@ static int parse_ulong(const char *s, unsigned long *out)
     return 0;
 }
 
+/* One option with its value; 0, or -1 with a message. */
+static int parse_option(cli_t *cli, const char *opt, const char *val)
+{
+    unsigned long n = 0;
+    if (strcmp(opt, "--estimator") == 0) {
+        cli->estimator = val;
+        if (sim_estimator_from_name(val, &cli->sim.estimator) != 0) {
+            fprintf(stderr, "focsim: unknown estimator '%s'\n", val);
+            return -1;
+        }
+    } else if (strcmp(opt, "--scenario") == 0) {
+        cli->scenario = val;
+    } else if (strcmp(opt, "--csv") == 0) {
+        cli->csv = val;
+    } else if (strcmp(opt, "--plot") == 0) {
+        cli->plot = val;
+    } else if (strcmp(opt, "--field-weakening") == 0) {
+        if (sim_fw_mode_from_name(val, &cli->sim.fw_mode) != 0) {
+            fprintf(stderr, "focsim: unknown field-weakening mode '%s'\n", val);
+            return -1;
+        }
+    } else if (strcmp(opt, "--stop-mode") == 0) {
+        if (sim_stop_mode_from_name(val, &cli->sim.stop_mode) != 0) {
+            fprintf(stderr, "focsim: unknown stop mode '%s'\n", val);
+            return -1;
+        }
+    } else if (strcmp(opt, "--brake-resistor") == 0) {
+        if (strcmp(val, "on") != 0 && strcmp(val, "off") != 0) {
+            fprintf(stderr, "focsim: --brake-resistor takes on or off\n");
+            return -1;
+        }
+        cli->sim.brake_resistor = strcmp(val, "on") == 0;
+    } else if (strcmp(opt, "--seed") == 0) {
+        if (parse_ulong(val, &n) != 0 || n > 0xFFFFFFFFul) {
+            fprintf(stderr, "focsim: --seed takes a whole number 0..4294967295\n");
+            return -1;
+        }
+        cli->sim.seed = (uint32_t)n;
+    } else if (strcmp(opt, "--monitor") == 0) {
+        cli->monitor = val;
+    } else if (strcmp(opt, "--monitor-out") == 0) {
+        cli->monitor_out = val;
+    } else if (strcmp(opt, "--decimate") == 0) {
+        if (parse_ulong(val, &cli->decimate) != 0 || cli->decimate == 0) {
+            fprintf(stderr, "focsim: --decimate takes a whole number >= 1\n");
+            return -1;
+        }
+    } else {
+        fprintf(stderr, "focsim: unknown option '%s'\n", opt);
+        return -1;
+    }
+    return 0;
+}
+
 static int parse_cli(int argc, char **argv, cli_t *cli)
 {
-    cli->estimator = NULL; /* userparms.h's FOC_ESTIMATOR */
     cli->scenario = FOCSIM_DEFAULT_SCENARIO;
     cli->csv = NULL;
     cli->plot = NULL;
-    cli->fw = NULL;
-    cli->seed = 1;
     cli->decimate = 1;
+    cli->monitor = NULL;
+    cli->monitor_out = NULL;
+    sim_default_options(&cli->sim);
+    cli->estimator = foc_est_name(cli->sim.estimator);
     for (int i = 1; i < argc; i++) {
         const char *opt = argv[i];
         if (strcmp(opt, "--help") == 0 || strcmp(opt, "-h") == 0) {
             usage(stdout);
             exit(0);
         }
+        if (strcmp(opt, "--sensored-start") == 0) {
+            cli->sim.sensored_start = 1;
+            continue;
+        }
         if (i + 1 >= argc) {
             fprintf(stderr, "focsim: %s needs a value\n", opt);
             return -1;
         }
-        const char *val = argv[++i];
-        if (strcmp(opt, "--estimator") == 0) {
-            cli->estimator = val;
-        } else if (strcmp(opt, "--scenario") == 0) {
-            cli->scenario = val;
-        } else if (strcmp(opt, "--csv") == 0) {
-            cli->csv = val;
-        } else if (strcmp(opt, "--plot") == 0) {
-            cli->plot = val;
-        } else if (strcmp(opt, "--field-weakening") == 0) {
-            cli->fw = val;
-        } else if (strcmp(opt, "--seed") == 0) {
-            if (parse_ulong(val, &cli->seed) != 0 || cli->seed > 0xFFFFFFFFul) {
-                fprintf(stderr, "focsim: --seed takes a whole number 0..4294967295\n");
-                return -1;
-            }
-        } else if (strcmp(opt, "--decimate") == 0) {
-            if (parse_ulong(val, &cli->decimate) != 0 || cli->decimate == 0) {
-                fprintf(stderr, "focsim: --decimate takes a whole number >= 1\n");
-                return -1;
-            }
-        } else {
-            fprintf(stderr, "focsim: unknown option '%s'\n", opt);
+        if (parse_option(cli, opt, argv[++i]) != 0) {
             return -1;
         }
     }
@@ -223,21 +268,6 @@ int main(int argc, char **argv)
         usage(stderr);
         return 1;
     }
-    sim_options_t opt = { FOC_ESTIMATOR, 0, -1 };
-    if (cli.fw != NULL && sim_fw_mode_from_name(cli.fw, &opt.fw_mode) != 0) {
-        fprintf(stderr, "focsim: unknown field-weakening mode '%s'\n", cli.fw);
-        usage(stderr);
-        return 1;
-    }
-    if (cli.estimator == NULL) {
-        cli.estimator = foc_est_name(opt.estimator);
-    } else if (sim_estimator_from_name(cli.estimator, &opt.estimator) != 0) {
-        fprintf(stderr, "focsim: unknown estimator '%s'\n", cli.estimator);
-        usage(stderr);
-        return 1;
-    }
-    opt.seed = (uint32_t)cli.seed;
-
     scn_t scn;
     char err[512];
     if (scn_parse_file(cli.scenario, &scn, err, sizeof err) != 0) {
@@ -245,10 +275,19 @@ int main(int argc, char **argv)
         return 1;
     }
     static sim_t sim;
-    if (sim_init(&sim, &opt, &scn, err, sizeof err) != 0) {
+    if (sim_init(&sim, &cli.sim, &scn, err, sizeof err) != 0) {
         fprintf(stderr, "focsim: %s\n", err);
         scn_free(&scn);
         return 1;
+    }
+    static simmon_t mon;
+    if (cli.monitor != NULL) {
+        if (simmon_open(&mon, cli.monitor, cli.monitor_out, &sim.ctrl, err, sizeof err) != 0) {
+            fprintf(stderr, "focsim: %s\n", err);
+            scn_free(&scn);
+            return 1;
+        }
+        sim.scope = &mon.scope;
     }
 
     FILE *csv = NULL;
@@ -265,7 +304,13 @@ int main(int argc, char **argv)
     trace_t tr = { 0 };
     sim_row_t row, last = { 0 };
     char line[512];
-    while (sim_step(&sim, &row)) {
+    for (;;) {
+        if (cli.monitor != NULL) {
+            simmon_run(&mon, sim.t_s); /* commands due before this period */
+        }
+        if (!sim_step(&sim, &row)) {
+            break;
+        }
         const uint64_t index = sim.period - 1u; /* the period just simulated */
         if (csv != NULL && index % cli.decimate == 0u) {
             sim_csv_row(&row, line, sizeof line);
@@ -284,6 +329,10 @@ int main(int argc, char **argv)
     }
     if (cli.plot != NULL && write_plot(cli.plot, &tr, cli.estimator) != 0) {
         fprintf(stderr, "focsim: cannot write %s\n", cli.plot);
+        rc = 1;
+    }
+    if (cli.monitor != NULL && simmon_close(&mon) != 0) {
+        fprintf(stderr, "focsim: error writing the monitor output\n");
         rc = 1;
     }
     print_summary(&sim, &last, cli.estimator);

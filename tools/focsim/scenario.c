@@ -63,6 +63,8 @@ static const plant_spec_t plant_params[] = {
     [SCN_PLANT_B] = { "b", NON_NEG },
     [SCN_PLANT_DEADTIME] = { "deadtime", NON_NEG },
     [SCN_PLANT_NOISE] = { "noise", NON_NEG },
+    [SCN_PLANT_BUSCAP] = { "buscap", NON_NEG },
+    [SCN_PLANT_BRAKERES] = { "brakeres", POSITIVE },
 };
 #define NUM_PLANT_PARAMS (sizeof plant_params / sizeof plant_params[0])
 
@@ -206,7 +208,7 @@ static int parse_event(const report_t *r, char *fields[MAX_FIELDS],
     const int p = find_plant_param(fields[2]);
     if (p < 0) {
         return fail(r, "unknown plant parameter '%s' (expected rs, ld, lq, "
-                       "flux, j, b, deadtime or noise)", fields[2]);
+                       "flux, j, b, deadtime, noise, buscap or brakeres)", fields[2]);
     }
     ev->plant = (scn_plant_t)p;
     char what[32];

@@ -22,6 +22,8 @@
  *          rs (ohm, > 0)   ld, lq (H, > 0)   flux (Wb, > 0)
  *          j (kg m^2, > 0) b (N m s/rad, >= 0)
  *          deadtime (s, >= 0)  noise (ADC codes sigma, >= 0)
+ *          buscap (DC-link capacitance, F, >= 0; 0 = stiff bus)
+ *          brakeres (brake resistor, ohm, > 0)
  *   <t> end                    end of the simulation (at most one)
  *
  * Events are sorted by time; events with equal times keep their file order.
@@ -45,7 +47,8 @@ typedef enum {
 
 typedef enum {
     SCN_PLANT_RS, SCN_PLANT_LD, SCN_PLANT_LQ, SCN_PLANT_FLUX, SCN_PLANT_J,
-    SCN_PLANT_B, SCN_PLANT_DEADTIME, SCN_PLANT_NOISE
+    SCN_PLANT_B, SCN_PLANT_DEADTIME, SCN_PLANT_NOISE,
+    SCN_PLANT_BUSCAP, SCN_PLANT_BRAKERES
 } scn_plant_t;
 
 typedef struct {

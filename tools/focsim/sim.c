@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "foc/config.h"
+#include "foc/scope.h"
 #include "host_port.h"
 
 #define RAD_S_PER_KRPM (1000.0 * 2.0 * FOC_PI_D / 60.0)
@@ -34,16 +35,39 @@ int sim_estimator_from_name(const char *name, foc_est_kind_t *kind)
     return -1;
 }
 
-int sim_fw_mode_from_name(const char *name, int *mode)
+/* Index of `name` in `names`, or -1. */
+static int name_index(const char *name, const char *const *names, int n)
 {
-    static const char *const names[] = { "off", "table", "voltage" };
-    for (int i = 0; i < 3; i++) {
+    for (int i = 0; i < n; i++) {
         if (strcmp(name, names[i]) == 0) {
-            *mode = i;
-            return 0;
+            return i;
         }
     }
     return -1;
+}
+
+int sim_fw_mode_from_name(const char *name, int *mode)
+{
+    static const char *const names[] = { "off", "table", "voltage" };
+    *mode = name_index(name, names, 3);
+    return *mode < 0 ? -1 : 0;
+}
+
+int sim_stop_mode_from_name(const char *name, int *mode)
+{
+    static const char *const names[] = { "ramp", "coast", "short" };
+    *mode = name_index(name, names, 3);
+    return *mode < 0 ? -1 : 0;
+}
+
+void sim_default_options(sim_options_t *o)
+{
+    o->estimator = FOC_ESTIMATOR;
+    o->seed = 1;
+    o->fw_mode = -1;
+    o->stop_mode = -1;
+    o->brake_resistor = -1;
+    o->sensored_start = 0;
 }
 
 /* The plant as userparms.h describes it. */
@@ -82,12 +106,20 @@ int sim_init(sim_t *s, const sim_options_t *o, const scn_t *scn, char *err,
     if (o->fw_mode >= 0) {
         s->ctrl.fw.mode = (foc_fw_mode_t)o->fw_mode;
     }
+    if (o->stop_mode >= 0) {
+        s->ctrl.opt.stop_mode = (foc_stop_mode_t)o->stop_mode;
+    }
+    if (o->brake_resistor >= 0) {
+        s->ctrl.protection.resistor_enabled = (uint8_t)o->brake_resistor;
+    }
+    s->ctrl.opt.sensored_start = (uint8_t)(o->sensored_start != 0);
     s->scn = scn;
     s->next_event = 0;
     s->period = 0;
     s->t_s = 0.0;
     s->closed_loop_time_s = -1.0;
     s->peak_current_a = 0.0;
+    s->scope = NULL;
     return 0;
 }
 
@@ -102,6 +134,8 @@ static void set_plant(pmsm_model_t *m, scn_plant_t which, double v)
     case SCN_PLANT_B: m->p.b_nm_per_rad_s = v; break;
     case SCN_PLANT_DEADTIME: m->p.deadtime_s = v; break;
     case SCN_PLANT_NOISE: m->p.noise_codes = v; break;
+    case SCN_PLANT_BUSCAP: m->p.bus_cap_f = v; break;
+    case SCN_PLANT_BRAKERES: m->p.brake_r_ohm = v; break;
     }
 }
 
@@ -141,7 +175,9 @@ static void fill_row(const sim_t *s, const pmsm_sample_t *m, sim_row_t *r)
     r->t_s = s->t_s;
     r->state = foc_state_name(c->state);
     r->fault = foc_fault_name(c->faults.first);
-    r->speed_ref_rpm = sim_rpm_from_q15(c->speed_ctrl.ramped);
+    /* the reference the controller imposes: the forced speed in start-up */
+    const int forced = c->state == FOC_STATE_ALIGN || c->state == FOC_STATE_OPENLOOP;
+    r->speed_ref_rpm = sim_rpm_from_q15(forced ? c->startup.speed : c->speed_ctrl.ramped);
     r->speed_rpm = m->speed_rpm;
     r->speed_est_rpm = sim_rpm_from_q15(c->est.est_speed);
     r->theta_e_deg = wrap_deg(th * 180.0 / FOC_PI_D);
@@ -160,6 +196,7 @@ static void fill_row(const sim_t *s, const pmsm_sample_t *m, sim_row_t *r)
     r->ia_a = m->ia_a;
     r->ib_a = m->ib_a;
     r->ic_a = m->ic_a;
+    r->bridge = (int)s->model.bridge_next;
 }
 
 int sim_step(sim_t *s, sim_row_t *row)
@@ -175,6 +212,7 @@ int sim_step(sim_t *s, sim_row_t *row)
     }
 
     foc_fast_step(&s->ctrl);
+    foc_scope_tick(s->scope);
     port->fault_input = 0; /* the `overcurrent` event is a pulse; the latch holds */
     if (s->period % CONTROL_SLOW_DIVIDER == 0u) {
         foc_slow_step(&s->ctrl);

@@ -28,7 +28,14 @@ typedef struct {
     foc_est_kind_t estimator;
     uint32_t seed;
     int fw_mode;            /* foc_fw_mode_t, or -1 for userparms.h's */
+    int stop_mode;          /* foc_stop_mode_t, or -1 for userparms.h's */
+    int brake_resistor;     /* 0/1, or -1 for userparms.h's */
+    int sensored_start;     /* 1: run on the model's angle until the */
+                            /* hand-over speed (a test aid) */
 } sim_options_t;
+
+/* userparms.h's choices, seed 1, no sensored start. */
+void sim_default_options(sim_options_t *o);
 
 /* One CSV row; names and units as in the CSV header (sim_csv_header). */
 typedef struct {
@@ -40,6 +47,8 @@ typedef struct {
     double id_a, iq_a, id_ref_a, iq_ref_a;
     double vd_v, vq_v, vdc_v, torque_nm;
     double ia_a, ib_a, ic_a;
+    int bridge;      /* pmsm_bridge_t the port has set for the next period */
+                     /* (not a CSV column) */
 } sim_row_t;
 
 typedef struct {
@@ -51,6 +60,8 @@ typedef struct {
     double t_s;
     double closed_loop_time_s;  /* first entry into RUN, -1 if never */
     double peak_current_a;      /* largest true |phase current| seen */
+    struct foc_scope *scope;    /* sampled right after each fast step, as */
+                                /* the firmware's hook does; NULL: none */
 } sim_t;
 
 /* Sets up model, port and controller; 0, or -1 with a message. */
@@ -68,8 +79,9 @@ void sim_csv_row(const sim_row_t *r, char *buf, size_t len);
 /* Parses "sensored|pll|luenberger|flux"; -1 if unknown. */
 int sim_estimator_from_name(const char *name, foc_est_kind_t *kind);
 
-/* Parses "off|table|voltage"; -1 if unknown. */
+/* Parse "off|table|voltage" and "ramp|coast|short"; -1 if unknown. */
 int sim_fw_mode_from_name(const char *name, int *mode);
+int sim_stop_mode_from_name(const char *name, int *mode);
 
 /* Q15 speed to mechanical rpm and back (saturating). */
 double sim_rpm_from_q15(q15_t speed);

@@ -1,0 +1,64 @@
+#include "mclv_ui.h"
+
+void mclv_button_init(mclv_button_t *b)
+{
+    b->stable = 0;
+    b->count = 0;
+}
+
+uint8_t mclv_button_update(mclv_button_t *b, uint8_t pressed)
+{
+    const uint8_t now = (uint8_t)(pressed != 0u);
+    if (now == b->stable) {
+        b->count = 0;
+        return 0;
+    }
+    b->count++;
+    if (b->count < MCLV_DEBOUNCE_MS) {
+        return 0;
+    }
+    b->stable = now;
+    b->count = 0;
+    return now; /* 1 on the press edge, 0 on release */
+}
+
+mclv_s2_action_t mclv_s2_action(foc_state_t state)
+{
+    switch (state) {
+    case FOC_STATE_IDLE:
+        return MCLV_S2_START;
+    case FOC_STATE_CALIB:
+    case FOC_STATE_ALIGN:
+    case FOC_STATE_OPENLOOP:
+    case FOC_STATE_RUN:
+        return MCLV_S2_STOP;
+    case FOC_STATE_FAULT:
+        return MCLV_S2_ACK;
+    default:
+        return MCLV_S2_NOTHING;
+    }
+}
+
+int32_t mclv_pot_to_rpm(q15_t pot, int32_t min_rpm, int32_t max_rpm)
+{
+    if (pot <= 0 || max_rpm <= min_rpm) {
+        return min_rpm;
+    }
+    /* span <= 65535, pot <= 32767: the product < 2^31 */
+    const uint32_t span = (uint32_t)(max_rpm - min_rpm);
+    return min_rpm + (int32_t)(((uint32_t)pot * span) >> 15);
+}
+
+uint8_t mclv_led_run(foc_state_t state, uint16_t ms)
+{
+    switch (state) {
+    case FOC_STATE_IDLE:
+        return 0;
+    case FOC_STATE_RUN:
+        return 1;
+    case FOC_STATE_FAULT:
+        return (uint8_t)((ms / 50u) & 1u); /* 10 Hz */
+    default:
+        return (uint8_t)((ms / 125u) & 1u); /* 4 Hz */
+    }
+}

@@ -1,0 +1,60 @@
+#include "foc/startup.h"
+#include "foc/config.h"
+
+/* The start angle is 0; the first alignment position 90 degrees before it
+ * in the direction of rotation. */
+#define QUARTER_TURN ((uint32_t)0x40000000u)
+
+void foc_startup_begin(foc_startup_t *s, int8_t direction)
+{
+    s->direction = (direction < 0) ? (int8_t)-1 : (int8_t)1;
+    s->theta32 = (s->direction > 0) ? (uint32_t)(0u - QUARTER_TURN) : QUARTER_TURN;
+    s->speed16 = 0;
+    s->speed = 0;
+    s->current = 0;
+    s->ticks = 0;
+}
+
+uint8_t foc_startup_align_tick(foc_startup_t *s)
+{
+    s->ticks++;
+    if (s->ticks <= FOC_ALIGN_HALF_TICKS) {
+        s->current = foc_slew_q15(s->current, FOC_ALIGN_CURRENT, FOC_ALIGN_CURRENT_STEP);
+        return 0;
+    }
+    s->theta32 = 0; /* second half: the start angle */
+    s->current = FOC_ALIGN_CURRENT;
+    if (s->ticks < 2u * FOC_ALIGN_HALF_TICKS) {
+        return 0;
+    }
+    /* Open loop begins from the first start-up current. */
+    s->current = FOC_OL_CURRENT_FIRST;
+    s->ticks = 0;
+    return 1;
+}
+
+void foc_startup_ramp_tick(foc_startup_t *s, q15_t speed_limit)
+{
+    /* |speed16| <= 2^31 - 2^16, step < 2^31 / 2: no overflow. */
+    const int32_t target = (int32_t)((s->direction > 0) ? speed_limit : -speed_limit) * 65536;
+    const int32_t diff = target - s->speed16;
+    if (diff > FOC_OL_SPEED_STEP16) {
+        s->speed16 += FOC_OL_SPEED_STEP16;
+    } else if (diff < -FOC_OL_SPEED_STEP16) {
+        s->speed16 -= FOC_OL_SPEED_STEP16;
+    } else {
+        s->speed16 = target;
+    }
+    s->speed = (q15_t)(s->speed16 >> 16);
+    if (s->ticks < FOC_OL_RAMP_TICKS) {
+        s->ticks++;
+        s->current = foc_add_q15(s->current, FOC_OL_CURRENT_STEP);
+    } else {
+        s->current = FOC_OL_CURRENT_FINAL;
+    }
+}
+
+void foc_startup_fast(foc_startup_t *s)
+{
+    s->theta32 += (uint32_t)((int32_t)s->speed * FOC_THETA32_PER_SPEED);
+}

@@ -1,0 +1,248 @@
+/*
+ * The controller's small blocks on their own: fault set, field weakening,
+ * protection thresholds and hysteresis, start-up sequencing, bus
+ * compensation, the voltage and current limit circles.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "foc/bus.h"
+#include "foc/config.h"
+#include "foc/current_ctrl.h"
+#include "foc/current_sense.h"
+#include "foc/faults.h"
+#include "foc/field_weakening.h"
+#include "foc/protection.h"
+#include "foc/speed_ctrl.h"
+#include "foc/startup.h"
+#include "testkit.h"
+
+/* The only port function these blocks call. */
+static uint8_t resistor_pin;
+void foc_port_brake_resistor(uint8_t on)
+{
+    resistor_pin = on;
+}
+
+static void case_faults_first_latched(void)
+{
+    foc_faults_t f;
+    foc_faults_clear(&f);
+    TK_CHECK(f.active == 0 && f.first == 0, "cleared");
+    foc_faults_raise(&f, FOC_FAULT_OVERTEMP);
+    foc_faults_raise(&f, FOC_FAULT_OVERVOLTAGE);
+    TK_CHECK(f.first == FOC_FAULT_OVERTEMP, "first %u", f.first);
+    TK_CHECK(f.active == (FOC_FAULT_OVERTEMP | FOC_FAULT_OVERVOLTAGE), "set %u", f.active);
+    TK_CHECK(strcmp(foc_fault_name(f.first), "OVERTEMP") == 0, "%s", foc_fault_name(f.first));
+    TK_CHECK(strcmp(foc_fault_name(0), "NONE") == 0, "none");
+    TK_CHECK(strcmp(foc_fault_name(FOC_FAULT_SPEED_FEEDBACK), "SPEED_FEEDBACK") == 0, "sf");
+}
+
+/* Table mode: below the start the first entry, past the end the last one
+ * (the index never leaves the table), interpolation in between. */
+static void case_fw_table_bounds(void)
+{
+    foc_fw_t fw;
+    foc_fw_init(&fw);
+    fw.mode = FW_MODE_TABLE;
+    const q15_t first = FOC_FW_ID_AT(0);
+    const q15_t last = FOC_FW_ID_AT(17);
+    TK_CHECK(foc_fw_step(&fw, 0, 0, Q15(0.9)) == first, "at 0: %d", fw.id_ref);
+    TK_CHECK(foc_fw_step(&fw, Q15_MAX, 0, Q15(0.9)) == last, "at max: %d", fw.id_ref);
+    TK_CHECK(foc_fw_step(&fw, Q15_MIN, 0, Q15(0.9)) == last, "at -max: %d", fw.id_ref);
+    /* halfway between entries 4 and 5 */
+    const double rpm = FW_START_RPM + 4.5 * (FW_END_RPM - FW_START_RPM) / 17.0;
+    const q15_t mid = foc_fw_step(&fw, FOC_SPEED_Q15(rpm), 0, Q15(0.9));
+    const double expect = 0.5 * (FOC_FW_ID_AT(4) + FOC_FW_ID_AT(5));
+    TK_CHECK(fabs(mid - expect) <= 3.0, "interpolated %d, expected %.1f", mid, expect);
+    TK_CHECK(last < 0 && last >= -FOC_FW_ID_MAX, "last entry %d", last);
+}
+
+/* Voltage mode: Id stays 0 below the voltage target, goes negative above
+ * it, never below -FW_ID_MAX_A. */
+static void case_fw_voltage_mode(void)
+{
+    foc_fw_t fw;
+    foc_fw_init(&fw);
+    fw.mode = FW_MODE_VOLTAGE;
+    for (int k = 0; k < 1000; k++) {
+        (void)foc_fw_step(&fw, 0, Q15(0.5), Q15(0.9));
+    }
+    TK_CHECK(fw.id_ref == 0, "below target: %d", fw.id_ref);
+    for (int k = 0; k < 100000; k++) {
+        (void)foc_fw_step(&fw, 0, Q15(0.95), Q15(0.9));
+    }
+    TK_CHECK(fw.id_ref == -FOC_FW_ID_MAX, "saturated: %d", fw.id_ref);
+    for (int k = 0; k < 100000; k++) {
+        (void)foc_fw_step(&fw, 0, Q15(0.5), Q15(0.9));
+    }
+    TK_CHECK(fw.id_ref == 0, "recovers: %d", fw.id_ref);
+}
+
+static void case_protection_thresholds(void)
+{
+    foc_protection_t p;
+    foc_protection_init(&p);
+    p.resistor_enabled = 0;
+    const q15_t temp_ok = FOC_TEMP_READING(25.0);
+    TK_CHECK(foc_protection_check(&p, FOC_VDC_NOMINAL, temp_ok) == 0, "nominal");
+    TK_CHECK(foc_protection_check(&p, FOC_OVERVOLTAGE, temp_ok) == FOC_FAULT_OVERVOLTAGE, "ov");
+    TK_CHECK(foc_protection_check(&p, FOC_UNDERVOLTAGE, temp_ok) == FOC_FAULT_UNDERVOLTAGE, "uv");
+    TK_CHECK(foc_protection_check(&p, FOC_VDC_NOMINAL, FOC_OVERTEMP) == FOC_FAULT_OVERTEMP, "ot");
+    /* hysteresis: just below the trip is not yet "gone" */
+    const uint16_t ov = FOC_FAULT_OVERVOLTAGE;
+    TK_CHECK(!foc_protection_causes_gone(&p, ov, (q15_t)(FOC_OVERVOLTAGE - 1), temp_ok), "ov hyst");
+    TK_CHECK(foc_protection_causes_gone(&p, ov, FOC_VDC_NOMINAL, temp_ok), "ov gone");
+    const uint16_t ot = FOC_FAULT_OVERTEMP;
+    TK_CHECK(!foc_protection_causes_gone(&p, ot, FOC_VDC_NOMINAL, FOC_TEMP_READING(OVERTEMP_DEGC - 1)),
+             "ot hyst");
+    TK_CHECK(foc_protection_causes_gone(&p, ot, FOC_VDC_NOMINAL, temp_ok), "ot gone");
+    TK_CHECK(foc_protection_causes_gone(&p, FOC_FAULT_SPEED_FEEDBACK, 0, 0), "no cause");
+}
+
+/* With the resistor: on above ON, held between, off below OFF; the
+ * over-voltage trip moves to 1.2 x OVERVOLTAGE_V. */
+static void case_protection_brake_resistor(void)
+{
+    foc_protection_t p;
+    foc_protection_init(&p);
+    p.resistor_enabled = 1;
+    const q15_t t = FOC_TEMP_READING(25.0);
+    const q15_t between = (q15_t)((FOC_BRAKE_RESISTOR_ON + FOC_BRAKE_RESISTOR_OFF) / 2);
+    (void)foc_protection_check(&p, between, t);
+    TK_CHECK(resistor_pin == 0, "off below ON");
+    (void)foc_protection_check(&p, FOC_BRAKE_RESISTOR_ON, t);
+    TK_CHECK(resistor_pin == 1, "on at ON");
+    (void)foc_protection_check(&p, between, t);
+    TK_CHECK(resistor_pin == 1, "held in the band");
+    (void)foc_protection_check(&p, FOC_BRAKE_RESISTOR_OFF, t);
+    TK_CHECK(resistor_pin == 0, "off at OFF");
+    TK_CHECK(foc_protection_check(&p, FOC_OVERVOLTAGE, t) == 0, "no trip at OVERVOLTAGE_V");
+    TK_CHECK(foc_protection_check(&p, FOC_OVERVOLTAGE_HARD, t) == FOC_FAULT_OVERVOLTAGE, "hard");
+}
+
+/* Alignment: first half at -90 deg (in the direction of rotation) with a
+ * rising current, second half at 0; then the ramp reaches the final speed
+ * in STARTUP_RAMP_TIME_S, negative for the reverse direction. */
+static void case_startup_sequence(void)
+{
+    for (int dir = -1; dir <= 1; dir += 2) {
+        foc_startup_t s;
+        foc_startup_begin(&s, (int8_t)dir);
+        const uint16_t first = foc_startup_angle(&s);
+        TK_CHECK(first == (dir > 0 ? 0xC000u : 0x4000u), "dir %d first angle %u", dir, first);
+        unsigned ticks = 0;
+        q15_t prev = 0;
+        while (foc_startup_align_tick(&s) == 0u && ticks < 100000u) {
+            TK_CHECK(s.current >= prev || ticks >= FOC_ALIGN_HALF_TICKS, "current falls");
+            prev = s.current;
+            ticks++;
+        }
+        TK_CHECK(ticks + 1u == 2u * FOC_ALIGN_HALF_TICKS, "align ticks %u", ticks + 1u);
+        TK_CHECK(foc_startup_angle(&s) == 0u, "aligned at 0");
+        for (unsigned k = 0; k < FOC_OL_RAMP_TICKS; k++) {
+            foc_startup_ramp_tick(&s, FOC_OL_FINAL_SPEED);
+        }
+        const int32_t final = dir * (int32_t)FOC_OL_FINAL_SPEED;
+        TK_CHECK(abs(s.speed - final) <= 1, "dir %d speed %d, want %ld", dir,
+                 s.speed, (long)final);
+        TK_CHECK(s.current == FOC_OL_CURRENT_FINAL || abs(s.current - FOC_OL_CURRENT_FINAL) <= 1,
+                 "current %d", s.current);
+        /* the forced angle turns at the forced speed */
+        const uint32_t before = s.theta32;
+        foc_startup_fast(&s);
+        TK_CHECK((int32_t)(s.theta32 - before) == s.speed * FOC_THETA32_PER_SPEED, "increment");
+    }
+}
+
+/* Nominal bus: no compensation; half bus: x2 (saturated); v_max follows. */
+static void case_bus_compensation(void)
+{
+    foc_bus_t bus;
+    foc_bus_init(&bus, FOC_VDC_NOMINAL);
+    TK_CHECK(abs(bus.comp_q14 - 16384) <= 2, "comp at nominal %d", bus.comp_q14);
+    TK_CHECK(abs(bus.v_max - FOC_VOLTAGE_LIMIT) <= 2, "v_max %d", bus.v_max);
+    foc_bus_init(&bus, (q15_t)(FOC_VDC_NOMINAL * 3 / 4));
+    TK_CHECK(abs(bus.comp_q14 - 21845) <= 4, "comp at 3/4: %d", bus.comp_q14);
+    TK_CHECK(abs(bus.v_max - FOC_VOLTAGE_LIMIT * 3 / 4) <= 4, "v_max at 3/4: %d", bus.v_max);
+    const foc_ab_t v = { Q15(0.3), Q15(-0.6) };
+    const foc_ab_t out = foc_bus_compensate(&bus, v);
+    TK_CHECK(abs(out.alpha - Q15(0.4)) <= 2 && abs(out.beta - Q15(-0.8)) <= 2, "%d %d",
+             out.alpha, out.beta);
+    foc_bus_init(&bus, 100);
+    TK_CHECK(bus.comp_q14 == 32767, "collapsed bus: comp %d", bus.comp_q14);
+}
+
+/* |Vdq| never exceeds Vmax, and Vd gets what it asks for first. */
+static void case_voltage_circle(void)
+{
+    foc_current_ctrl_t cc;
+    foc_cc_init(&cc);
+    srand(7);
+    int32_t worst = 0;
+    for (int k = 0; k < 20000; k++) {
+        const foc_dq_t ref = { (q15_t)(rand() % 65536 - 32768), (q15_t)(rand() % 65536 - 32768) };
+        const foc_dq_t meas = { 0, 0 };
+        const q15_t vmax = (q15_t)(rand() % 32768);
+        const foc_dq_t v = foc_cc_step(&cc, ref, meas, vmax);
+        const int32_t mag2 = (int32_t)v.d * v.d + (int32_t)v.q * v.q;
+        const int32_t over = (int32_t)sqrt((double)mag2) - vmax;
+        worst = over > worst ? over : worst;
+        TK_CHECK(abs(v.d) <= vmax, "vd %d > vmax %d", v.d, vmax);
+    }
+    TK_CHECK(worst <= 1, "|Vdq| exceeds Vmax by %ld LSB", (long)worst);
+}
+
+/* |Iq| <= sqrt(Ilim^2 - Id^2), 0 when Id takes it all. */
+static void case_current_circle(void)
+{
+    for (int32_t id = -32768; id <= 32767; id += 97) {
+        const q15_t iq_max = foc_sc_iq_limit((q15_t)id);
+        const double lim = FOC_CURRENT_LIMIT;
+        const double expect = fabs((double)id) >= lim ? 0.0 : sqrt(lim * lim - (double)id * id);
+        TK_CHECK(fabs(iq_max - expect) <= 1.0, "id %ld: %d vs %.1f", (long)id, iq_max, expect);
+    }
+}
+
+/* Offsets: the mean of 1024 bridge-off samples; then any two valid phases
+ * give the same alpha/beta as all three; fewer than two keep the previous
+ * value. */
+static void case_current_sense(void)
+{
+    foc_current_sense_t cs;
+    foc_cs_calib_start(&cs);
+    foc_samples_t s = { 0 };
+    for (int k = 0; k < 1024; k++) {
+        s.i_a = (q15_t)(100 + (k & 1));  /* mean 100.5 -> 101 (rounded) */
+        s.i_b = -250;
+        s.i_c = 7;
+        foc_cs_calib_add(&cs, &s);
+    }
+    TK_CHECK(cs.calibrated == 1, "calibrated");
+    TK_CHECK(cs.offset.a == 101 && cs.offset.b == -250 && cs.offset.c == 7, "offsets %d %d %d",
+             cs.offset.a, cs.offset.b, cs.offset.c);
+    /* a balanced set 0.5 / -0.2 / -0.3 plus the offsets */
+    s.i_a = (q15_t)(Q15(0.5) + 101);
+    s.i_b = (q15_t)(Q15(-0.2) - 250);
+    s.i_c = (q15_t)(Q15(-0.3) + 7);
+    const foc_ab_t prev = { 1234, -4321 };
+    const uint8_t masks[] = { FOC_PHASE_A | FOC_PHASE_B, FOC_PHASE_B | FOC_PHASE_C,
+                              FOC_PHASE_A | FOC_PHASE_C, FOC_PHASE_A | FOC_PHASE_B | FOC_PHASE_C };
+    for (size_t m = 0; m < 4; m++) {
+        s.phases = masks[m];
+        const foc_ab_t ab = foc_cs_alphabeta(&cs, &s, prev);
+        TK_CHECK(abs(ab.alpha - Q15(0.5)) <= 2 && abs(ab.beta - Q15((0.5 - 0.4) / 1.7320508)) <= 3,
+                 "mask %u: %d %d", masks[m], ab.alpha, ab.beta);
+    }
+    s.phases = FOC_PHASE_B;
+    const foc_ab_t held = foc_cs_alphabeta(&cs, &s, prev);
+    TK_CHECK(held.alpha == prev.alpha && held.beta == prev.beta, "one phase: %d %d", held.alpha,
+             held.beta);
+}
+
+TK_CASES(TK_CASE(case_current_sense), TK_CASE(case_faults_first_latched), TK_CASE(case_fw_table_bounds),
+         TK_CASE(case_fw_voltage_mode), TK_CASE(case_protection_thresholds),
+         TK_CASE(case_protection_brake_resistor), TK_CASE(case_startup_sequence),
+         TK_CASE(case_bus_compensation), TK_CASE(case_voltage_circle),
+         TK_CASE(case_current_circle))
