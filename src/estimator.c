@@ -2,22 +2,22 @@
 #include "foc/config.h"
 #include "foc/lpf.h"
 
+/* Firmware builds only the configured estimator: the others are dead code
+ * here, so the linker leaves them out.  The host builds them all (focsim
+ * --estimator chooses at run time). */
+#ifdef FOC_ALL_ESTIMATORS
+#define BUILT(kind) 1
+#else
+#define BUILT(kind) ((kind) == FOC_ESTIMATOR || (kind) == FOC_EST_SENSORED)
+#endif
+
 int foc_est_select(foc_estimator_t *est, foc_est_kind_t kind)
 {
-    switch (kind) {
-    case FOC_EST_SENSORED:
-    case FOC_EST_PLL:
-        est->kind = kind;
-        return 0;
-    case FOC_EST_FLUX:
-        est->kind = kind;
-        return 0;
-    case FOC_EST_LUENBERGER:
-        est->kind = kind;
-        return 0;
-    default:
-        return -1; /* not built */
+    if ((unsigned)kind > (unsigned)FOC_EST_FLUX || !BUILT(kind)) {
+        return -1;
     }
+    est->kind = kind;
+    return 0;
 }
 
 /* The selected estimator's own angle and speed. */
@@ -25,16 +25,22 @@ static void read_estimate(foc_estimator_t *est)
 {
     switch (est->kind) {
     case FOC_EST_PLL:
-        est->est_theta = est->pll.theta;
-        est->est_speed = foc_pll_speed(&est->pll);
+        if (BUILT(FOC_EST_PLL)) {
+            est->est_theta = est->u.pll.theta;
+            est->est_speed = foc_pll_speed(&est->u.pll);
+        }
         break;
     case FOC_EST_FLUX:
-        est->est_theta = est->flux.theta;
-        est->est_speed = foc_flux_speed(&est->flux);
+        if (BUILT(FOC_EST_FLUX)) {
+            est->est_theta = est->u.flux.theta;
+            est->est_speed = foc_flux_speed(&est->u.flux);
+        }
         break;
     case FOC_EST_LUENBERGER:
-        est->est_theta = est->luenberger.theta;
-        est->est_speed = foc_luen_speed(&est->luenberger);
+        if (BUILT(FOC_EST_LUENBERGER)) {
+            est->est_theta = est->u.luenberger.theta;
+            est->est_speed = foc_luen_speed(&est->u.luenberger);
+        }
         break;
     default:
         est->est_theta = est->sensored.theta;
@@ -61,14 +67,20 @@ void foc_est_reset(foc_estimator_t *est, const foc_est_input_t *in, uint8_t use_
     foc_sensored_reset(&est->sensored, in->theta_sensor);
     switch (est->kind) {
     case FOC_EST_PLL:
-        foc_pll_init(&est->pll);
-        foc_pll_reset(&est->pll, 0, 0, in->i_ab);
+        if (BUILT(FOC_EST_PLL)) {
+            foc_pll_init(&est->u.pll);
+            foc_pll_reset(&est->u.pll, 0, 0, in->i_ab);
+        }
         break;
     case FOC_EST_FLUX:
-        foc_flux_reset(&est->flux, 0, 0, in->i_ab);
+        if (BUILT(FOC_EST_FLUX)) {
+            foc_flux_reset(&est->u.flux, 0, 0, in->i_ab);
+        }
         break;
     case FOC_EST_LUENBERGER:
-        foc_luen_reset(&est->luenberger, 0, 0, in->i_ab);
+        if (BUILT(FOC_EST_LUENBERGER)) {
+            foc_luen_reset(&est->u.luenberger, 0, 0, in->i_ab);
+        }
         break;
     default:
         break;
@@ -83,13 +95,19 @@ void foc_est_step(foc_estimator_t *est, const foc_est_input_t *in)
     }
     switch (est->kind) {
     case FOC_EST_PLL:
-        foc_pll_step(&est->pll, in->v_ab, in->i_ab);
+        if (BUILT(FOC_EST_PLL)) {
+            foc_pll_step(&est->u.pll, in->v_ab, in->i_ab);
+        }
         break;
     case FOC_EST_FLUX:
-        foc_flux_step(&est->flux, in->v_ab, in->i_ab, in->iq_ref);
+        if (BUILT(FOC_EST_FLUX)) {
+            foc_flux_step(&est->u.flux, in->v_ab, in->i_ab, in->iq_ref);
+        }
         break;
     case FOC_EST_LUENBERGER:
-        foc_luen_step(&est->luenberger, in->v_ab, in->i_ab);
+        if (BUILT(FOC_EST_LUENBERGER)) {
+            foc_luen_step(&est->u.luenberger, in->v_ab, in->i_ab);
+        }
         break;
     default:
         break;
@@ -99,22 +117,27 @@ void foc_est_step(foc_estimator_t *est, const foc_est_input_t *in)
 
 void foc_est_set_fw(foc_estimator_t *est, q15_t inv_kfi, q15_t ls_scale)
 {
-    foc_pll_set_inv_kfi(&est->pll, inv_kfi);
-    foc_pll_set_ls_scale(&est->pll, ls_scale);
+    if (BUILT(FOC_EST_PLL) && est->kind == FOC_EST_PLL) {
+        foc_pll_set_inv_kfi(&est->u.pll, inv_kfi);
+        foc_pll_set_ls_scale(&est->u.pll, ls_scale);
+    }
 }
 
 uint8_t foc_est_emf_consistent(const foc_estimator_t *est, q15_t ratio)
 {
+    if (!BUILT(est->kind)) {
+        return 1;
+    }
     switch (est->kind) {
     case FOC_EST_PLL: {
-        const q15_t expected = foc_mul_q15_shift(foc_abs_q15(foc_pll_speed(&est->pll)),
+        const q15_t expected = foc_mul_q15_shift(foc_abs_q15(foc_pll_speed(&est->u.pll)),
                                                  FOC_PLL_KFI_MANT, FOC_PLL_KFI_SHIFT);
-        return (uint8_t)(foc_abs_q15(foc_lpf_out(&est->pll.eq)) >= foc_mul_q15(ratio, expected));
+        return (uint8_t)(foc_abs_q15(foc_lpf_out(&est->u.pll.eq)) >= foc_mul_q15(ratio, expected));
     }
     case FOC_EST_LUENBERGER:
         /* e_q is Q15 of the EMF at SPEED_BASE_RPM: the speed it implies. */
-        return (uint8_t)(foc_abs_q15(est->luenberger.emf_speed) >=
-                         foc_mul_q15(ratio, foc_abs_q15(foc_luen_speed(&est->luenberger))));
+        return (uint8_t)(foc_abs_q15(est->u.luenberger.emf_speed) >=
+                         foc_mul_q15(ratio, foc_abs_q15(foc_luen_speed(&est->u.luenberger))));
     default:
         return 1; /* the sensor needs no such check */
     }

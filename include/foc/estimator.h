@@ -41,13 +41,17 @@ typedef struct {
     uint16_t est_theta;     /* the selected estimator's own estimate */
     q15_t est_speed;
     foc_sensored_t sensored;
-    foc_pll_t pll;
-    foc_luenberger_t luenberger;
-    foc_flux_est_t flux;
+    union {                 /* one sensorless estimator runs at a time */
+        foc_pll_t pll;
+        foc_luenberger_t luenberger;
+        foc_flux_est_t flux;
+    } u;
 } foc_estimator_t;
 
-/* Selects the estimator (kept over resets); 0, or -1 if that kind is not
- * available (the selection is then unchanged). */
+/* Selects the estimator (kept over resets); 0, or -1 if
+ * that kind is not built (the selection is then unchanged).  Firmware
+ * builds contain only FOC_ESTIMATOR (and the sensor); a build with
+ * FOC_ALL_ESTIMATORS defined (the host's) contains all of them. */
 int foc_est_select(foc_estimator_t *est, foc_est_kind_t kind);
 
 /* Restarts the estimator from angle 0 and standstill, as after power-up
