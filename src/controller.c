@@ -1,5 +1,6 @@
 #include "foc/controller.h"
 #include "foc/config.h"
+#include "foc/deadtime.h"
 #include "foc/sqrt.h"
 #include "foc/svm.h"
 #include "foc/trig.h"
@@ -74,6 +75,7 @@ void foc_init(foc_ctrl_t *c)
     c->opt.open_loop_only = OPEN_LOOP_ONLY;
     c->opt.tuning = TUNING_RAMP;
     c->opt.sensored_start = 0;
+    c->opt.deadtime_comp = (uint8_t)(DEADTIME_COMPENSATION != 0);
     foc_faults_clear(&c->faults);
     c->i_ab = zero_ab;
     c->i_dq = zero_dq;
@@ -111,12 +113,21 @@ static q15_t forced_vq(q15_t speed, q15_t id)
  * it has converged by the hand-over. */
 static void current_loop(foc_ctrl_t *c, uint16_t theta, q15_t speed, uint8_t forced)
 {
+    const foc_ab_t i_last = c->i_ab;
     c->i_ab = foc_cs_alphabeta(&c->current_sense, &c->samples, c->i_ab);
 
     /* The voltage applied in the period that just ended was computed two
-     * steps ago (the PWM unit applies duties one period late). */
-    const foc_est_input_t in = { c->v_ab_prev, c->i_ab, c->i_ref.q,
-                                 c->samples.theta_sensor };
+     * steps ago (the PWM unit applies duties one period late), plus the
+     * dead-time error for the current that flowed then. */
+    foc_ab_t v_applied = c->v_ab_prev;
+    if (c->opt.deadtime_comp != 0u) {
+        const foc_ab_t i_mid = { (q15_t)(((int32_t)i_last.alpha + c->i_ab.alpha) >> 1),
+                                 (q15_t)(((int32_t)i_last.beta + c->i_ab.beta) >> 1) };
+        const foc_ab_t err = foc_deadtime_error_ab(foc_iclarke_q15(i_mid));
+        v_applied.alpha = foc_add_q15(v_applied.alpha, err.alpha);
+        v_applied.beta = foc_add_q15(v_applied.beta, err.beta);
+    }
+    const foc_est_input_t in = { v_applied, c->i_ab, c->i_ref.q, c->samples.theta_sensor };
     foc_est_step(&c->est, &in);
     c->v_ab_prev = c->v_ab;
 
@@ -129,8 +140,15 @@ static void current_loop(foc_ctrl_t *c, uint16_t theta, q15_t speed, uint8_t for
     }
 
     const q15_t advance = foc_mul_q15(speed, ADVANCE_GAIN);
-    const uint16_t theta_v = (uint16_t)(theta + (uint16_t)advance);
-    c->v_ab = foc_ipark_q15(c->v_dq, foc_sincos_q15(theta_v));
+    const foc_sincos_t sc_v = foc_sincos_q15((uint16_t)(theta + (uint16_t)advance));
+    c->v_ab = foc_ipark_q15(c->v_dq, sc_v);
+    if (c->opt.deadtime_comp != 0u) {
+        /* cancel the dead-time error of the next period's current: the
+         * reference turned on by 1.5 periods of rotation */
+        const foc_ab_t err = foc_deadtime_error_ab(foc_iclarke_q15(foc_ipark_q15(c->i_ref, sc_v)));
+        c->v_ab.alpha = foc_sub_q15(c->v_ab.alpha, err.alpha);
+        c->v_ab.beta = foc_sub_q15(c->v_ab.beta, err.beta);
+    }
     c->duty = foc_svm_q15(foc_bus_compensate(&c->bus, c->v_ab));
     foc_port_set_duties(&c->duty);
     foc_port_debug_out(c->i_dq.d, c->i_dq.q);

@@ -58,6 +58,9 @@
                                              /* (-14 x 3.3 / 195, 3.3 / 195) */
 #define PWM_FREQUENCY_HZ            16000.0  /* PWM and control rate, Hz */
 #define PWM_DEADTIME_S              0.8e-6   /* dead time, s */
+#define DEADTIME_COMPENSATION       1        /* 1: correct the duties for */
+                                             /* the dead time (deadtime.h) */
+#define DEADTIME_COMP_CURRENT_A     0.05     /* soft-sign width, A */
 #define CONTROL_SLOW_DIVIDER        8        /* PWM periods per slow tick */
                                              /* (speed loop, state machine) */
 

@@ -379,6 +379,15 @@ FOC_STATIC_ASSERT(FOC_NORM_OK(FOC_SOBS_FF_X),
     FOC_I_Q15(FOC_FW_ID_RAW_A(i) > 0.0 ? 0.0                                   \
               : FOC_FW_ID_RAW_A(i) < -FW_ID_MAX_A ? -FW_ID_MAX_A : FOC_FW_ID_RAW_A(i))
 
+/* ------------------------------------------------ dead-time comp. -- */
+/* Phase voltage lost per dead time, Vdc t_dead f_pwm, in per-unit of the
+ * voltage base Vdc/sqrt(3) (nominal bus); the soft-sign gain 1/I_soft in
+ * per-unit of the current base. */
+#define FOC_DT_VOLTAGE Q15(FOC_SQRT3_D * PWM_DEADTIME_S * PWM_FREQUENCY_HZ)
+#define FOC_DT_INV_SOFT_PU (FOC_I_BASE_A / DEADTIME_COMP_CURRENT_A)
+#define FOC_DT_INV_SOFT_MANT FOC_GAIN_MANT(FOC_DT_INV_SOFT_PU)
+#define FOC_DT_INV_SOFT_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_DT_INV_SOFT_PU))
+
 /* -------------------------------------------------------------- bus -- */
 /* Nominal bus in bus-ADC counts; the modulation compensation is
  * Vdc_nominal / Vdc_measured in Q14 (up to 2.0). */
@@ -523,6 +532,10 @@ FOC_STATIC_ASSERT(PLL_EMF_FILTER_TIME_S >= 0.0 && PLL_SPEED_FILTER_TIME_S >= 0.0
                   "PLL filter time constants must be >= 0");
 FOC_STATIC_ASSERT(PLL_LOW_SPEED_RPM >= 0.0 && PLL_LOW_SPEED_RPM < SPEED_BASE_RPM,
                   "PLL_LOW_SPEED_RPM out of range");
+FOC_STATIC_ASSERT(PWM_DEADTIME_S >= 0.0 && PWM_DEADTIME_S * PWM_FREQUENCY_HZ < 0.1,
+                  "PWM_DEADTIME_S must be under 10 % of the PWM period");
+FOC_STATIC_ASSERT(DEADTIME_COMP_CURRENT_A > 0.0 && FOC_DT_INV_SOFT_PU < 32768.0,
+                  "DEADTIME_COMP_CURRENT_A out of range");
 FOC_STATIC_ASSERT(STARTUP_CONV_TESTS >= 1 && STARTUP_CONV_TESTS <= 255,
                   "STARTUP_CONV_TESTS must be 1..255");
 FOC_STATIC_ASSERT(STARTUP_TIMEOUT_S / FOC_SLOW_TS_S < 65000.0 && STALL_TICKS < 65000 &&

@@ -82,6 +82,7 @@ typedef struct {
     uint8_t tuning;         /* TUNING: slow speed-reference ramp */
     uint8_t sensored_start; /* run on the position sensor until the */
                             /* hand-over speed (boards with a sensor) */
+    uint8_t deadtime_comp;  /* DEADTIME_COMPENSATION (deadtime.h) */
 } foc_options_t;
 
 typedef struct {

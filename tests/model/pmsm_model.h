@@ -15,7 +15,9 @@
  * Inverter: average-value model over each PWM period.  Phase-to-DC-minus
  * voltages are Vdc * duty; the star point floats, so only the differential
  * part reaches the windings.  Optional dead-time error per phase
- * -sgn(i_x) * Vdc * t_dead * f_pwm.  Bridge off: each phase is clamped by its
+ * -sgn(i_x) * Vdc * t_dead * f_pwm, fading in proportionally within the
+ * PWM-ripple band around zero current (the period average of a rippling
+ * current's error; band (2/3) Vdc / (8 L f_pwm)).  Bridge off: each phase is clamped by its
  * free-wheeling diodes (i > 0 -> 0 V, i < 0 -> Vdc) and a phase current
  * that reaches zero stays zero while the back-EMF cannot drive it through
  * the diodes.  Low sides on: all phases at 0 V (windings shorted).

@@ -34,6 +34,7 @@ void est_measure(foc_est_kind_t kind, const est_case_t *c, est_result_t *out)
     sim_default_options(&opt);
     opt.estimator = kind;
     opt.sensored_start = 1;
+    opt.ideal_inverter = !c->realistic;
     run_t r;
     run_scenario_with(text, &opt, &r);
 
@@ -79,7 +80,7 @@ double est_lowest_speed(foc_est_kind_t kind, const double *speeds, int n,
 {
     double lowest = 0.0;
     for (int i = 0; i < n; i++) {
-        const est_case_t c = { speeds[i], 0.0, 77.0, NULL };
+        const est_case_t c = { speeds[i], 0.0, 77.0, NULL, 0 };
         est_result_t r;
         est_measure(kind, &c, &r);
         const int ok = r.in_run && r.ran_on_estimator && r.angle_rms_deg <= rms_max_deg &&
@@ -92,4 +93,10 @@ double est_lowest_speed(foc_est_kind_t kind, const double *speeds, int n,
         lowest = speeds[i];
     }
     return lowest;
+}
+
+void est_detuned_plant(char *buf, size_t len)
+{
+    snprintf(buf, len, "0 plant rs %g\n0 plant ld %g\n0 plant lq %g\n0 plant flux %g",
+             1.3 * MOTOR_RS_OHM, 0.8 * MOTOR_LD_H, 0.8 * MOTOR_LQ_H, 0.9 * FOC_FLUX_WB);
 }

@@ -3,6 +3,9 @@
  * the figures issue-level acceptance asks for, measured the same way for
  * every estimator.
  *
+ * The estimators' accuracy is measured on an ideal inverter unless a case
+ * asks for the realistic one (est_case_t.realistic).
+ *
  * A run: rotor at a given initial angle, start with the sensored start
  * (the issue's "after a sensored start": the model's angle until
  * SENSORED_HANDOVER_RPM, then the estimator), go to max(|target|, 400 rpm)
@@ -19,6 +22,9 @@ typedef struct {
     double load_nm;
     double angle_deg;     /* initial rotor angle */
     const char *plant;    /* extra scenario lines at t = 0 (may be NULL) */
+    int realistic;        /* 0: ideal inverter (no dead time, no */
+                          /* compensation); 1: the board's dead time, */
+                          /* compensated */
 } est_case_t;
 
 typedef struct {
@@ -36,6 +42,10 @@ void est_measure(foc_est_kind_t kind, const est_case_t *c, est_result_t *out);
  * speed within 2 % of the target (the loop really runs there). */
 int est_check(const char *label, const est_result_t *r, double rms_max_deg,
               double peak_max_deg, double speed_err_max_pct, double target_rpm);
+
+/* The scenario lines of the detuned motor: the real motor's Rs +30 %,
+ * Ls -20 % and flux -10 % from what userparms.h says. */
+void est_detuned_plant(char *buf, size_t len);
 
 /* Lowest of `speeds` (descending list) at which the angle error RMS stays
  * <= rms_max_deg in steady state with no load; 0 if none. */

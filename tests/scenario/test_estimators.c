@@ -38,7 +38,7 @@ static void speeds_and_loads(const limits_t *lim)
     const double loads[] = { 0.0, 0.05 };
     for (size_t i = 0; i < 4; i++) {
         for (size_t j = 0; j < 2; j++) {
-            const est_case_t c = { speeds[i], loads[j], 30.0 + 47.0 * (double)i, NULL };
+            const est_case_t c = { speeds[i], loads[j], 30.0 + 47.0 * (double)i, NULL, 0 };
             char label[64];
             snprintf(label, sizeof label, "%s %5.0f rpm %.2f Nm", foc_est_name(lim->kind),
                      speeds[i], loads[j]);
@@ -51,7 +51,7 @@ static void reverse(const limits_t *lim)
 {
     const double loads[] = { 0.0, 0.05 };
     for (size_t j = 0; j < 2; j++) {
-        const est_case_t c = { -1000.0, loads[j], 250.0, NULL };
+        const est_case_t c = { -1000.0, loads[j], 250.0, NULL, 0 };
         char label[64];
         snprintf(label, sizeof label, "%s -1000 rpm %.2f Nm", foc_est_name(lim->kind), loads[j]);
         check_case(lim, label, &c, lim->rms_max_deg, lim->peak_max_deg);
@@ -62,11 +62,10 @@ static void reverse(const limits_t *lim)
 static void detuned(const limits_t *lim)
 {
     char plant[256];
-    snprintf(plant, sizeof plant, "0 plant rs %g\n0 plant ld %g\n0 plant lq %g\n0 plant flux %g",
-             1.3 * MOTOR_RS_OHM, 0.8 * MOTOR_LD_H, 0.8 * MOTOR_LQ_H, 0.9 * FOC_FLUX_WB);
+    est_detuned_plant(plant, sizeof plant);
     const double loads[] = { 0.0, 0.05 };
     for (size_t j = 0; j < 2; j++) {
-        const est_case_t c = { 1000.0, loads[j], 160.0, plant };
+        const est_case_t c = { 1000.0, loads[j], 160.0, plant, 0 };
         char label[64];
         snprintf(label, sizeof label, "%s detuned 1000 rpm %.2f Nm", foc_est_name(lim->kind),
                  loads[j]);

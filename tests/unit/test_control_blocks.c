@@ -11,6 +11,7 @@
 #include "foc/config.h"
 #include "foc/current_ctrl.h"
 #include "foc/current_sense.h"
+#include "foc/deadtime.h"
 #include "foc/faults.h"
 #include "foc/field_weakening.h"
 #include "foc/protection.h"
@@ -241,7 +242,29 @@ static void case_current_sense(void)
              held.beta);
 }
 
-TK_CASES(TK_CASE(case_current_sense), TK_CASE(case_faults_first_latched), TK_CASE(case_fw_table_bounds),
+/* Dead time: outside the soft band each phase loses V_dt against its
+ * current (the vector sum of the three); inside, in proportion. */
+static void case_deadtime_error(void)
+{
+    const q15_t big = FOC_I_Q15(1.0);
+    const foc_abc_t i = { big, (q15_t)-big, (q15_t)-big };
+    const foc_ab_t e = foc_deadtime_error_ab(i);
+    /* phases -V, +V, +V: alpha = (2(-V) - V - V)/3 = -4V/3, beta = 0 */
+    const double v = FOC_DT_VOLTAGE;
+    TK_CHECK(fabs(e.alpha + 4.0 * v / 3.0) <= 2.0 && abs(e.beta) <= 2, "big: %d %d (V %.0f)",
+             e.alpha, e.beta, v);
+    const q15_t small = FOC_I_Q15(0.5 * DEADTIME_COMP_CURRENT_A);
+    const foc_abc_t i2 = { small, (q15_t)-small, 0 };
+    const foc_ab_t e2 = foc_deadtime_error_ab(i2);
+    /* phases -V/2, +V/2, 0: alpha = -V/2, beta = (b - c)/sqrt(3) = V/(2 sqrt(3)) */
+    TK_CHECK(fabs(e2.alpha + 0.5 * v) <= 2.0 && fabs(e2.beta - v / (2.0 * 1.7320508)) <= 2.0,
+             "in band: %d %d", e2.alpha, e2.beta);
+    const foc_abc_t zero = { 0, 0, 0 };
+    const foc_ab_t e0 = foc_deadtime_error_ab(zero);
+    TK_CHECK(e0.alpha == 0 && e0.beta == 0, "zero current: %d %d", e0.alpha, e0.beta);
+}
+
+TK_CASES(TK_CASE(case_deadtime_error), TK_CASE(case_current_sense), TK_CASE(case_faults_first_latched), TK_CASE(case_fw_table_bounds),
          TK_CASE(case_fw_voltage_mode), TK_CASE(case_protection_thresholds),
          TK_CASE(case_protection_brake_resistor), TK_CASE(case_startup_sequence),
          TK_CASE(case_bus_compensation), TK_CASE(case_voltage_circle),

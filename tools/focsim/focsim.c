@@ -146,6 +146,10 @@ static int parse_cli(int argc, char **argv, cli_t *cli)
             cli->sim.sensored_start = 1;
             continue;
         }
+        if (strcmp(opt, "--ideal-inverter") == 0) {
+            cli->sim.ideal_inverter = 1;
+            continue;
+        }
         if (i + 1 >= argc) {
             fprintf(stderr, "focsim: %s needs a value\n", opt);
             return -1;

@@ -68,6 +68,7 @@ void sim_default_options(sim_options_t *o)
     o->stop_mode = -1;
     o->brake_resistor = -1;
     o->sensored_start = 0;
+    o->ideal_inverter = 0;
 }
 
 /* The plant as userparms.h describes it. */
@@ -83,7 +84,7 @@ static void plant_from_userparms(pmsm_params_t *p, uint32_t seed)
     p->b_nm_per_rad_s = MOTOR_VISCOUS_NM_PER_KRPM / RAD_S_PER_KRPM;
     p->coulomb_nm = MOTOR_COULOMB_NM;
     p->pwm_hz = PWM_FREQUENCY_HZ;
-    p->deadtime_s = 0.0;
+    p->deadtime_s = PWM_DEADTIME_S;
     p->vdc_source_v = BOARD_VDC_NOMINAL_V;
     p->adc_bits = BOARD_ADC_BITS;
     p->current_fs_a = BOARD_CURRENT_FULL_SCALE_A;
@@ -113,6 +114,10 @@ int sim_init(sim_t *s, const sim_options_t *o, const scn_t *scn, char *err,
         s->ctrl.protection.resistor_enabled = (uint8_t)o->brake_resistor;
     }
     s->ctrl.opt.sensored_start = (uint8_t)(o->sensored_start != 0);
+    if (o->ideal_inverter != 0) {
+        s->model.p.deadtime_s = 0.0;
+        s->ctrl.opt.deadtime_comp = 0;
+    }
     s->scn = scn;
     s->next_event = 0;
     s->period = 0;

@@ -11,9 +11,9 @@
  *   4. the row for t_k is filled;
  *   5. the model integrates period k.
  *
- * The plant starts with the motor of userparms.h (the controller's belief);
- * `plant` commands make it differ.  Its inverter is ideal unless a
- * `plant deadtime` command sets one.
+ * The plant starts with the motor and inverter of userparms.h (the
+ * controller's belief, including the dead time PWM_DEADTIME_S, which the
+ * controller compensates); `plant` commands make it differ.
  */
 #ifndef FOCSIM_SIM_H
 #define FOCSIM_SIM_H
@@ -32,6 +32,8 @@ typedef struct {
     int brake_resistor;     /* 0/1, or -1 for userparms.h's */
     int sensored_start;     /* 1: run on the model's angle until the */
                             /* hand-over speed (a test aid) */
+    int ideal_inverter;     /* 1: plant without dead time and the */
+                            /* controller without compensation */
 } sim_options_t;
 
 /* userparms.h's choices, seed 1, no sensored start. */
