@@ -1,6 +1,7 @@
 #include "foc/controller.h"
 #include "foc/config.h"
 #include "foc/deadtime.h"
+#include "foc/scope.h"
 #include "foc/sqrt.h"
 #include "foc/svm.h"
 #include "foc/trig.h"
@@ -90,6 +91,7 @@ void foc_init(foc_ctrl_t *c)
     foc_startup_begin(&c->startup, 1);
     c->est.kind = FOC_ESTIMATOR;
     c->samples.theta_sensor = 0;
+    c->scope = NULL;
     c->direction = 1;
     reset_run_state(c);
     outputs_off(c);
@@ -151,7 +153,7 @@ static void current_loop(foc_ctrl_t *c, uint16_t theta, q15_t speed, uint8_t for
     }
     c->duty = foc_svm_q15(foc_bus_compensate(&c->bus, c->v_ab));
     foc_port_set_duties(&c->duty);
-    foc_port_debug_out(c->i_dq.d, c->i_dq.q);
+    foc_scope_debug_out(c->scope, c);
 }
 
 void foc_fast_step(foc_ctrl_t *c)
@@ -162,6 +164,7 @@ void foc_fast_step(foc_ctrl_t *c)
         if ((c->faults.active & (uint16_t)FOC_FAULT_OVERCURRENT) == 0u) {
             trip(c, (uint16_t)FOC_FAULT_OVERCURRENT);
         }
+        foc_scope_tick(c->scope);
         return;
     }
     switch (c->state) {
@@ -185,6 +188,7 @@ void foc_fast_step(foc_ctrl_t *c)
     default:
         break;
     }
+    foc_scope_tick(c->scope);
 }
 
 /* ------------------------------------------------------------ start-up -- */

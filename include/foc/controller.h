@@ -50,6 +50,8 @@
 #include "foc/speed_stats.h"
 #include "foc/startup.h"
 
+struct foc_scope; /* foc/scope.h: capture and debug-output selection */
+
 typedef enum {
     FOC_STATE_IDLE = 0,
     FOC_STATE_CALIB,
@@ -120,6 +122,8 @@ typedef struct {
     uint16_t unreliable_ticks; /* stall detection counters */
     uint16_t emf_low_ticks;
     uint16_t state_ticks;   /* slow ticks spent in the present state */
+    struct foc_scope *scope; /* NULL: none (debug outputs id, iq); the */
+                             /* application attaches one after foc_init */
 } foc_ctrl_t;
 
 /* Everything to rest: IDLE, no fault, outputs off, options from

@@ -291,7 +291,7 @@ int main(int argc, char **argv)
             scn_free(&scn);
             return 1;
         }
-        sim.scope = &mon.scope;
+        sim.ctrl.scope = &mon.scope; /* after sim_init's foc_init */
     }
 
     FILE *csv = NULL;

@@ -5,7 +5,6 @@
 #include <string.h>
 
 #include "foc/config.h"
-#include "foc/scope.h"
 #include "host_port.h"
 
 #define RAD_S_PER_KRPM (1000.0 * 2.0 * FOC_PI_D / 60.0)
@@ -124,7 +123,6 @@ int sim_init(sim_t *s, const sim_options_t *o, const scn_t *scn, char *err,
     s->t_s = 0.0;
     s->closed_loop_time_s = -1.0;
     s->peak_current_a = 0.0;
-    s->scope = NULL;
     return 0;
 }
 
@@ -217,7 +215,6 @@ int sim_step(sim_t *s, sim_row_t *row)
     }
 
     foc_fast_step(&s->ctrl);
-    foc_scope_tick(s->scope);
     port->fault_input = 0; /* the `overcurrent` event is a pulse; the latch holds */
     if (s->period % CONTROL_SLOW_DIVIDER == 0u) {
         foc_slow_step(&s->ctrl);

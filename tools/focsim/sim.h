@@ -62,8 +62,6 @@ typedef struct {
     double t_s;
     double closed_loop_time_s;  /* first entry into RUN, -1 if never */
     double peak_current_a;      /* largest true |phase current| seen */
-    struct foc_scope *scope;    /* sampled right after each fast step, as */
-                                /* the firmware's hook does; NULL: none */
 } sim_t;
 
 /* Sets up model, port and controller; 0, or -1 with a message. */
