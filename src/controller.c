@@ -147,9 +147,10 @@ static void current_loop(foc_ctrl_t *c, uint16_t theta, q15_t speed, uint8_t for
     if (c->opt.deadtime_comp != 0u) {
         /* cancel the dead-time error of the next period's current: the
          * reference turned on by 1.5 periods of rotation */
-        const foc_ab_t err = foc_deadtime_error_ab(foc_iclarke_q15(foc_ipark_q15(c->i_ref, sc_v)));
-        c->v_ab.alpha = foc_sub_q15(c->v_ab.alpha, err.alpha);
-        c->v_ab.beta = foc_sub_q15(c->v_ab.beta, err.beta);
+        const foc_ab_t corr =
+            foc_deadtime_correction_ab(foc_iclarke_q15(foc_ipark_q15(c->i_ref, sc_v)));
+        c->v_ab.alpha = foc_add_q15(c->v_ab.alpha, corr.alpha);
+        c->v_ab.beta = foc_add_q15(c->v_ab.beta, corr.beta);
     }
     c->duty = foc_svm_q15(foc_bus_compensate(&c->bus, c->v_ab));
     foc_port_set_duties(&c->duty);

@@ -60,7 +60,7 @@
 #define PWM_DEADTIME_S              0.8e-6   /* dead time, s */
 #define DEADTIME_COMPENSATION       1        /* 1: correct the duties for */
                                              /* the dead time (deadtime.h) */
-#define DEADTIME_COMP_CURRENT_A     0.05     /* soft-sign width, A */
+#define DEADTIME_COMP_CURRENT_A     0.15     /* compensation soft band, A */
 #define CONTROL_SLOW_DIVIDER        8        /* PWM periods per slow tick */
                                              /* (speed loop, state machine) */
 

@@ -385,6 +385,14 @@ FOC_STATIC_ASSERT(FOC_NORM_OK(FOC_SOBS_FF_X),
  * per-unit of the current base. */
 #define FOC_DT_VOLTAGE Q15(FOC_SQRT3_D * PWM_DEADTIME_S * PWM_FREQUENCY_HZ)
 #define FOC_DT_INV_SOFT_PU (FOC_I_BASE_A / DEADTIME_COMP_CURRENT_A)
+/* Half the peak-to-peak PWM current ripple at 50 % duty with 2/3 of the bus
+ * across the winding: within it the period-average dead-time error is
+ * proportional to the current (the estimator's model of the bridge). */
+#define FOC_DT_RIPPLE_BAND_A                                                   \
+    ((2.0 / 3.0) * BOARD_VDC_NOMINAL_V / (8.0 * 0.5 * (MOTOR_LD_H + MOTOR_LQ_H) * PWM_FREQUENCY_HZ))
+#define FOC_DT_INV_RIPPLE_PU (FOC_I_BASE_A / FOC_DT_RIPPLE_BAND_A)
+#define FOC_DT_INV_RIPPLE_MANT FOC_GAIN_MANT(FOC_DT_INV_RIPPLE_PU)
+#define FOC_DT_INV_RIPPLE_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_DT_INV_RIPPLE_PU))
 #define FOC_DT_INV_SOFT_MANT FOC_GAIN_MANT(FOC_DT_INV_SOFT_PU)
 #define FOC_DT_INV_SOFT_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_DT_INV_SOFT_PU))
 
@@ -536,6 +544,8 @@ FOC_STATIC_ASSERT(PWM_DEADTIME_S >= 0.0 && PWM_DEADTIME_S * PWM_FREQUENCY_HZ < 0
                   "PWM_DEADTIME_S must be under 10 % of the PWM period");
 FOC_STATIC_ASSERT(DEADTIME_COMP_CURRENT_A > 0.0 && FOC_DT_INV_SOFT_PU < 32768.0,
                   "DEADTIME_COMP_CURRENT_A out of range");
+FOC_STATIC_ASSERT(FOC_DT_INV_RIPPLE_PU < 32768.0,
+                  "PWM ripple band too narrow for the per-unit format (MOTOR_LD_H/LQ_H)");
 FOC_STATIC_ASSERT(STARTUP_CONV_TESTS >= 1 && STARTUP_CONV_TESTS <= 255,
                   "STARTUP_CONV_TESTS must be 1..255");
 FOC_STATIC_ASSERT(STARTUP_TIMEOUT_S / FOC_SLOW_TS_S < 65000.0 && STALL_TICKS < 65000 &&

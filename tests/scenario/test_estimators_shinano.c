@@ -27,5 +27,8 @@ static void two_speeds(foc_est_kind_t kind, double rms_max, double peak_max)
 }
 
 static void case_pll_shinano(void) { two_speeds(FOC_EST_PLL, 3.0, 6.0); }
+static void case_luenberger_shinano(void) { two_speeds(FOC_EST_LUENBERGER, 3.0, 6.0); }
+/* Flux: the issue gives only RMS <= 5 deg; 10 deg peak is our choice. */
+static void case_flux_shinano(void) { two_speeds(FOC_EST_FLUX, 5.0, 10.0); }
 
-TK_CASES(TK_CASE(case_pll_shinano))
+TK_CASES(TK_CASE(case_pll_shinano), TK_CASE(case_luenberger_shinano), TK_CASE(case_flux_shinano))

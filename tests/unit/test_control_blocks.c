@@ -253,12 +253,20 @@ static void case_deadtime_error(void)
     const double v = FOC_DT_VOLTAGE;
     TK_CHECK(fabs(e.alpha + 4.0 * v / 3.0) <= 2.0 && abs(e.beta) <= 2, "big: %d %d (V %.0f)",
              e.alpha, e.beta, v);
-    const q15_t small = FOC_I_Q15(0.5 * DEADTIME_COMP_CURRENT_A);
+    const q15_t small = FOC_I_Q15(0.5 * FOC_DT_RIPPLE_BAND_A);
     const foc_abc_t i2 = { small, (q15_t)-small, 0 };
     const foc_ab_t e2 = foc_deadtime_error_ab(i2);
     /* phases -V/2, +V/2, 0: alpha = -V/2, beta = (b - c)/sqrt(3) = V/(2 sqrt(3)) */
     TK_CHECK(fabs(e2.alpha + 0.5 * v) <= 2.0 && fabs(e2.beta - v / (2.0 * 1.7320508)) <= 2.0,
              "in band: %d %d", e2.alpha, e2.beta);
+    /* the correction: opposite, with its own (wider) band */
+    const q15_t half_comp = FOC_I_Q15(0.5 * DEADTIME_COMP_CURRENT_A);
+    const foc_abc_t i3 = { half_comp, (q15_t)-half_comp, 0 };
+    const foc_ab_t c3 = foc_deadtime_correction_ab(i3);
+    TK_CHECK(fabs(c3.alpha - 0.5 * v) <= 2.0 && fabs(c3.beta + v / (2.0 * 1.7320508)) <= 2.0,
+             "correction: %d %d", c3.alpha, c3.beta);
+    const foc_ab_t c1 = foc_deadtime_correction_ab(i);
+    TK_CHECK(c1.alpha == -e.alpha && c1.beta == -e.beta, "correction outside the band");
     const foc_abc_t zero = { 0, 0, 0 };
     const foc_ab_t e0 = foc_deadtime_error_ab(zero);
     TK_CHECK(e0.alpha == 0 && e0.beta == 0, "zero current: %d %d", e0.alpha, e0.beta);
