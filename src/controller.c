@@ -135,8 +135,10 @@ static void current_loop(foc_ctrl_t *c, uint16_t theta, q15_t speed, uint8_t for
 
     c->i_dq = foc_park_q15(c->i_ab, foc_sincos_q15(theta));
     if (forced != 0u) {
+        /* the q swing current may use what the d current leaves */
         c->v_dq = foc_cc_step_vq(&c->current_ctrl, c->i_ref.d, c->i_dq.d,
-                                 forced_vq(speed, c->i_ref.d), c->bus.v_max);
+                                 forced_vq(speed, c->i_ref.d), c->i_dq.q,
+                                 foc_sc_iq_limit(c->i_ref.d), c->bus.v_max);
     } else {
         c->v_dq = foc_cc_step(&c->current_ctrl, c->i_ref, c->i_dq, c->bus.v_max);
     }
@@ -298,10 +300,9 @@ static void startup_tick(foc_ctrl_t *c)
  * hand-over current fading out), then the speed PI within what is left. */
 static void speed_loop(foc_ctrl_t *c, q15_t target)
 {
-    /* TUNING: the reference itself creeps toward the command. */
-    c->speed_ctrl.target = (c->opt.tuning != 0u)
-                               ? foc_slew_q15(c->speed_ctrl.ramped, target, FOC_TUNING_RAMP_STEP)
-                               : target;
+    /* TUNING: the reference creeps toward the command. */
+    c->speed_ctrl.target = target;
+    c->speed_ctrl.step16 = (c->opt.tuning != 0u) ? FOC_TUNING_RAMP_STEP16 : FOC_SPEED_RAMP_STEP16;
     const q15_t v_mag = foc_mag_q15(c->v_dq.d, c->v_dq.q);
     const q15_t id_fw = foc_fw_step(&c->fw, c->speed_ctrl.ramped, v_mag, c->bus.v_max);
     c->handover_id = foc_slew_q15(c->handover_id, 0, FOC_HANDOVER_ID_STEP);

@@ -55,10 +55,17 @@ foc_dq_t foc_cc_step(foc_current_ctrl_t *cc, foc_dq_t i_ref, foc_dq_t i_meas,
 }
 
 foc_dq_t foc_cc_step_vq(foc_current_ctrl_t *cc, q15_t id_ref, q15_t id_meas, q15_t vq,
-                        q15_t v_max)
+                        q15_t iq_meas, q15_t iq_max, q15_t v_max)
 {
     foc_dq_t v;
     v.d = d_axis(cc, id_ref, id_meas, v_max);
+    /* Free within +-iq_max; beyond it the proportional gain pulls Iq back
+     * (a low-resistance winding would otherwise carry a large swing
+     * current). */
+    const q15_t iq_free = (iq_meas > iq_max) ? iq_max : (iq_meas < -iq_max) ? (q15_t)-iq_max : iq_meas;
+    const q15_t pull = foc_mul_q15_shift(foc_sub_q15(iq_free, iq_meas), FOC_CURRENT_KP_MANT,
+                                         FOC_CURRENT_KP_SHIFT);
+    vq = foc_add_q15(vq, pull);
     const q15_t vq_max = circle_remainder(v_max, v.d);
     v.q = (vq > vq_max) ? vq_max : (vq < -vq_max) ? (q15_t)-vq_max : vq;
     foc_pi_set_limits(&cc->pi_q, (q15_t)-vq_max, vq_max);

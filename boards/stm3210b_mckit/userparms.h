@@ -1,12 +1,28 @@
 /*
- * userparms.h for the Shinano Kenshi LA052-080E3NL1 on ST's STM3210B-MCKIT
- * (MB459 three-shunt inverter, 24 V).  Written from userparms.h.in; the
- * motor facts are ST's (DESIGN.md section 3), the board facts are the kit's
- * nominal values and should be checked against the board in hand.
- * For another motor, copy it to userparms.h at the repository root (the
- * host build then uses that file) or point FOC_USERPARMS=<path> at a copy,
- * and change the values.  tools/tune.py writes such a file from a motor and
- * a board description.
+ * userparms.h — motor and application parameters, in physical units.
+ *
+ * Motor: Shinano Kenshi LA052-080E3NL1, described in
+ *   motors/shinano_la052.ini: Ke 4.0 V rms line-to-line per krpm, rated
+ *   current 1.6 A rms (ST's figures); rotor inertia and friction are assumed
+ *   values.
+ * Board: ST STM3210B-MCKIT (STM32F103 + MB459 three-shunt inverter),
+ *   described in boards/stm3210b_mckit/board.ini: MB459 figures from ST's
+ *   PMSM FOC library v2.0 for this kit (sources in
+ *   docs/boards/stm3210b_mckit.md): bus divider BUS_ADC_CONV_RATIO 0.008
+ *   (MC_Control_Param.h); phase current = X x 0.64 V / (32767 x Rshunt) with
+ *   0.22 ohm shunts, i.e. 0.64 V across the shunt swings the amplifier over
+ *   half the ADC range (gain 2.58, offset mid-scale, output falling for
+ *   current into the motor), ST's MAX_CURRENT 2.9 A; the heatsink NTC read
+ *   as T = 14 degC + 195 degC x (V / 3.3 V) (MC_MotorControl_Layer.c). These
+ *   are the kit's nominal values: check them against the board in hand.
+ * Written by tools/tune.py: current loop 1000 Hz, speed loop 600 rad/s,
+ *   observer 6661.5 rad/s.
+ *
+ * The template userparms.h.in is this file for its motor and board (the
+ * defaults).  For another motor describe the motor and the board and run
+ * tools/tune.py (docs/new-motor.md), or copy the template and change the
+ * values; the host build uses userparms.h at the repository root if there
+ * is one, or the file FOC_USERPARMS=<path> names.
  *
  * Every Q15 constant the firmware uses is derived from these values at
  * compile time (include/foc/config.h); a value that would overflow its
@@ -23,41 +39,33 @@
 /* ---------------------------------------------------------------- motor -- */
 #define MOTOR_POLE_PAIRS            2        /* pole pairs */
 #define MOTOR_RS_OHM                0.35     /* stator resistance, ohm */
-#define MOTOR_LD_H                  0.6e-3   /* d-axis inductance, H */
-#define MOTOR_LQ_H                  0.6e-3   /* q-axis inductance, H */
+#define MOTOR_LD_H                  6.0e-4   /* d-axis inductance, H */
+#define MOTOR_LQ_H                  6.0e-4   /* q-axis inductance, H */
 #define MOTOR_KE_VPK_PER_KRPM       5.657    /* back-EMF constant, V peak */
                                              /* line-to-line per 1000 rpm */
 #define MOTOR_NOMINAL_SPEED_RPM     3000.0   /* rated speed, rpm */
 #define MOTOR_MAX_SPEED_RPM         4000.0   /* mechanical limit, rpm */
-#define MOTOR_RATED_CURRENT_A       2.26     /* rated current, A peak */
-/* Ke: 4.0 V rms line-to-line per krpm = 5.657 V peak.  Rated current 1.6 A
- * rms.  Rotor inertia and friction: assumed values. */
+#define MOTOR_RATED_CURRENT_A       2.263    /* rated current, A peak */
+/* Rotor inertia and friction: the motor description's, or estimated from
+ * the rated torque (see the header). */
 #define MOTOR_INERTIA_KGM2          1.0e-5   /* rotor inertia, kg m^2 */
 #define MOTOR_VISCOUS_NM_PER_KRPM   3.14e-4  /* viscous friction, Nm per */
                                              /* 1000 rpm (3e-6 Nm s/rad) */
 #define MOTOR_COULOMB_NM            1.0e-3   /* dry friction, Nm */
 
 /* ------------------------------------------------------ inverter / board -- */
-/* MB459 figures from ST's PMSM FOC library v2.0 for this kit (sources in
- * docs/boards/stm3210b_mckit.md): bus divider BUS_ADC_CONV_RATIO 0.008
- * (MC_Control_Param.h); phase current = X * 0.64 V / (32767 * Rshunt) with
- * 0.22 ohm shunts, i.e. 0.64 V across the shunt swings the amplifier over
- * half the ADC range (gain 2.58, offset mid-scale, output falling for
- * current into the motor), ST's MAX_CURRENT 2.9 A for the Shinano; the
- * heatsink NTC read as T = 14 degC + 195 degC x (V / 3.3 V)
- * (MC_MotorControl_Layer.c). */
 #define BOARD_VDC_NOMINAL_V         24.0     /* DC bus, V (voltage base) */
 #define BOARD_VDC_FULL_SCALE_V      412.5    /* bus voltage at ADC full */
-                                             /* scale: 3.3 V / 0.008 */
+                                             /* scale: Vref / divider */
 #define BOARD_CURRENT_FULL_SCALE_A  2.9      /* phase current at ADC full */
-                                             /* scale: 0.64 V / 0.22 ohm */
+                                             /* scale (current base): */
+                                             /* Vref / 2 / (shunt x gain) */
 #define BOARD_ADC_BITS              12       /* ADC resolution, bits */
 #define BOARD_ADC_VREF_V            3.3      /* ADC reference, V */
-#define BOARD_TEMP_V_AT_0C          (-0.2369) /* NTC, linearised: output */
+#define BOARD_TEMP_V_AT_0C          (-0.2369) /* temperature sensor output */
 #define BOARD_TEMP_V_PER_DEGC       0.016923 /* at 0 degC and its slope */
-                                             /* (-14 x 3.3 / 195, 3.3 / 195) */
 #define PWM_FREQUENCY_HZ            16000.0  /* PWM and control rate, Hz */
-#define PWM_DEADTIME_S              0.8e-6   /* dead time, s */
+#define PWM_DEADTIME_S              8.0e-7   /* dead time, s */
 #define DEADTIME_COMPENSATION       1        /* 1: correct the duties for */
                                              /* the dead time (deadtime.h) */
 #define DEADTIME_COMP_CURRENT_A     0.15     /* compensation soft band, A */
@@ -71,16 +79,18 @@
 /* ------------------------------------------------------- current control -- */
 #define CURRENT_LIMIT_A             2.1      /* phase current limit, A peak */
 /* Current PI, in volts per ampere: Kp = Ls wc and Ki = Rs wc place the PI
- * zero on the winding pole (wc = 2 pi 1000 rad/s). */
+ * zero on the winding pole, giving a first-order loop of bandwidth wc
+ * (the header gives wc / 2 pi). */
 #define CURRENT_KP_V_PER_A          3.77
 #define CURRENT_KI_V_PER_AS         2199.0
 #define VOLTAGE_LIMIT_FRACTION      0.95     /* |Vdq| limit as a fraction of */
                                              /* Vdc/sqrt(3) (linear SVM) */
 
 /* --------------------------------------------------------- speed control -- */
-/* Speed PI: Kp = J wb / Kt, Ki = Kp wb / 4, wb = 600 rad/s. */
-#define SPEED_KP_A_PER_RPM          1.34e-2
-#define SPEED_KI_A_PER_RPM_S        2.01
+/* Speed PI from amperes of q current per rpm of error: Kp = J wb / Kt and
+ * Ki = Kp wb / 4 for the bandwidth wb of the header, Kt = 1.5 p flux. */
+#define SPEED_KP_A_PER_RPM          0.01343
+#define SPEED_KI_A_PER_RPM_S        2.015
 #define SPEED_RAMP_RPM_PER_S        10000.0  /* reference slew rate */
 #define SPEED_FILTER_TIME_S         0.5e-3   /* speed measurement filter */
 
@@ -94,10 +104,40 @@
  * (the L di/dt term is then a difference over 8 samples). */
 #define PLL_EMF_FILTER_TIME_S       0.2e-3
 #define PLL_SPEED_FILTER_TIME_S     1.0e-3
-#define PLL_LOW_SPEED_RPM           600.0
-/* Luenberger observer + PLL (ST): ST's defaults, see userparms.h.in. */
-#define LUENBERGER_K1_PER_S         (-12000.0) /* 1/s, < 0 */
-#define LUENBERGER_K2_V_PER_AS      85200.0    /* V/(A s), > 0 */
+#define PLL_LOW_SPEED_RPM           640.0
+/* Flux-linkage estimator (Wang/Luo/Guo): the integrated flux is pulled
+ * toward a circle at FLUX_CORR_MIN_RAD_S + FLUX_CORR_PER_SPEED x |electrical
+ * speed| (rad/s): higher rejects offsets better (angle error about offset
+ * voltage / back-EMF at 1.5); an unknown initial flux is shed in about 1 to
+ * 2 electrical turns, fastest near 1.5.  The circle's radius (the magnet
+ * flux) is learned with a low-pass at FLUX_MAG_PER_SPEED x |electrical
+ * speed|; keep it at most 0.05 x FLUX_CORR_PER_SPEED (0.2 x oscillated with
+ * dead time at no load).  The speed observer (mechanical model, torque command fed forward
+ * through MOTOR_INERTIA_KGM2, friction neglected) has three poles at
+ * -FLUX_SPEED_OBS_BW_RAD_S. */
+#define FLUX_CORR_MIN_RAD_S         30.0
+#define FLUX_CORR_PER_SPEED         1.5
+#define FLUX_MAG_PER_SPEED          0.075
+#define FLUX_SPEED_OBS_BW_RAD_S     800.0
+/* Luenberger observer + PLL (ST, seed 002).  K1, K2: the observer's
+ * current-error gains, in ST's physical units, placed so that the observer
+ * error obeys s^2 + (Rs/Ls - K1) s + K2/Ls = 0 with a double pole at the
+ * observer bandwidth wo of the header: K2 = Ls wo^2, K1 = Rs/Ls - 2 wo
+ * (wo = 6661.5 rad/s gives ST's defaults -12000 and 85200 on the
+ * Hurst075, whose error then decays with discrete poles 0.80 and 0.47 at
+ * 20 kHz, within about 1 ms; config.h checks that the poles lie inside the
+ * unit circle).  F1, F2: the extra resolution of the current and EMF states
+ * (powers of two; ST's values, or the nearest that fit the motor).
+ * PLL gains: ST's formulas Kp = 532 fe/fs, Ki = 1506742 fe/fs^2 with fe
+ * the maximum electrical speed in electrical rpm, in ST's scaling (speed
+ * in 1/65536 turn per period, EMF as Q15 of the EMF at maximum speed,
+ * Kp over 2^14, Ki over 2^16): a loop of natural frequency
+ * sqrt(72.2 fe) rad/s and damping 0.006 sqrt(fe) at maximum speed
+ * (1124 rad/s and 0.79 on the Hurst075), which our PLL keeps at all
+ * speeds (its input is normalised by the EMF amplitude, see
+ * foc/luenberger.h). */
+#define LUENBERGER_K1_PER_S         (-12740.0) /* 1/s, < 0 */
+#define LUENBERGER_K2_V_PER_AS      26630.0    /* V/(A s), > 0 */
 #define LUENBERGER_F1               2048
 #define LUENBERGER_F2               8192
 #define LUENBERGER_PLL_KP                                                      \
@@ -106,15 +146,9 @@
     (1506742.0 * MOTOR_MAX_SPEED_RPM * MOTOR_POLE_PAIRS /                      \
      (PWM_FREQUENCY_HZ * PWM_FREQUENCY_HZ))
 #define LUENBERGER_SPEED_FILTER_TIME_S 1.0e-3  /* speed output filter, s */
-/* Flux-linkage estimator (see userparms.h.in): correction toward the
- * magnet-flux circle, learned radius, speed observer poles. */
-#define FLUX_CORR_MIN_RAD_S         30.0
-#define FLUX_CORR_PER_SPEED         1.5
-#define FLUX_MAG_PER_SPEED          0.075
-#define FLUX_SPEED_OBS_BW_RAD_S     800.0
 /* Sensored start (host test aid, boards with a position sensor): closed
  * loop on the sensor until this speed, then on the estimator. */
-#define SENSORED_HANDOVER_RPM       300.0
+#define SENSORED_HANDOVER_RPM       380.0
 
 /* ------------------------------------------------------ field weakening -- */
 /* FW_MODE_VOLTAGE: a PI keeps |Vdq| at FW_VOLTAGE_MARGIN of the voltage
@@ -129,10 +163,10 @@
  * FW_LS_TABLE (18 entries of Ls/(2 Ls0), Q15(0.5) = nominal).
  * FW_MODE_OFF: Id = 0. */
 #define FW_MODE                     FW_MODE_VOLTAGE
-#define FW_ID_MAX_A                 1.5      /* largest -Id, A peak */
+#define FW_ID_MAX_A                 1.7      /* largest -Id, A peak */
 #define FW_VOLTAGE_MARGIN           0.95     /* |Vdq| target / limit */
-#define FW_VOLTAGE_KP_A_PER_V       0.05     /* voltage PI, A of Id per V */
-#define FW_VOLTAGE_KI_A_PER_VS      80.0
+#define FW_VOLTAGE_KP_A_PER_V       0.24     /* voltage PI, A of Id per V */
+#define FW_VOLTAGE_KI_A_PER_VS      380.0
 #define FW_START_RPM                3000.0   /* table mode */
 #define FW_END_RPM                  6000.0
 
@@ -154,18 +188,18 @@
  * within STARTUP_SPEED_WINDOW_MIN..MAX x the forced speed and above
  * STARTUP_MIN_SPEED_RPM, and its back-EMF matches its speed.  No
  * convergence within STARTUP_TIMEOUT_S of `start`: fault STARTUP_FAILED. */
-#define STARTUP_ALIGN_CURRENT_A     1.5
-#define STARTUP_ALIGN_TIME_S        0.12
-#define STARTUP_CURRENT_FIRST_A     1.5
-#define STARTUP_CURRENT_FINAL_A     1.5
-#define STARTUP_FINAL_SPEED_RPM     500.0
+#define STARTUP_ALIGN_CURRENT_A     1.6
+#define STARTUP_ALIGN_TIME_S        0.31
+#define STARTUP_CURRENT_FIRST_A     1.6
+#define STARTUP_CURRENT_FINAL_A     1.6
+#define STARTUP_FINAL_SPEED_RPM     640.0
 #define STARTUP_RAMP_TIME_S         0.25
-#define STARTUP_MIN_SPEED_RPM       250.0
+#define STARTUP_MIN_SPEED_RPM       320.0
 #define STARTUP_SPEED_WINDOW_MIN    0.8
 #define STARTUP_SPEED_WINDOW_MAX    1.2
 #define STARTUP_VARIANCE_THRESHOLD  0.0625
 #define STARTUP_CONV_TESTS          32
-#define STARTUP_TIMEOUT_S           1.0
+#define STARTUP_TIMEOUT_S           1.1
 #define STARTUP_HANDOVER_TIME_S     0.05     /* forced d current fades out */
 /* AN1292's tuning aids: stay in open loop with the estimator running
  * (OPEN_LOOP_FUNCTIONING), or ramp the speed reference slowly for
@@ -173,7 +207,7 @@
  * enable. */
 /* #define OPEN_LOOP_FUNCTIONING */
 /* #define TUNING */
-#define TUNING_RAMP_RPM_PER_S       100.0
+#define TUNING_RAMP_RPM_PER_S       150.0
 
 /* ---------------------------------------------------------- supervision -- */
 /* Stall / step-out in RUN (and from the hand-over on): the estimated speed

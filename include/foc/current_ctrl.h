@@ -32,10 +32,11 @@ foc_dq_t foc_cc_step(foc_current_ctrl_t *cc, foc_dq_t i_ref, foc_dq_t i_meas,
  * the d PI, Vq = `vq` limited to the circle.  In the forced frame of the
  * start-up this lets the back-EMF of a rotor swinging about the forced
  * angle drive currents through Rs: electrical damping, which a q current
- * loop would cancel.  The q integrator follows Vq, so switching back to
+ * loop would cancel.  Only while |Iq| <= iq_max: beyond, the proportional
+ * gain pulls it back.  The q integrator follows Vq, so switching back to
  * foc_cc_step() is bumpless. */
 foc_dq_t foc_cc_step_vq(foc_current_ctrl_t *cc, q15_t id_ref, q15_t id_meas, q15_t vq,
-                        q15_t v_max);
+                        q15_t iq_meas, q15_t iq_max, q15_t v_max);
 
 /* Presets both integrators to a voltage (hand-over to another frame). */
 void foc_cc_preset(foc_current_ctrl_t *cc, foc_dq_t v);

@@ -6,6 +6,8 @@
  */
 #include <stdio.h>
 
+#include "foc/config.h"
+
 #include "estimator_metrics.h"
 #include "testkit.h"
 
@@ -31,4 +33,29 @@ static void case_luenberger_shinano(void) { two_speeds(FOC_EST_LUENBERGER, 3.0, 
 /* Flux: the issue gives only RMS <= 5 deg; 10 deg peak is our choice. */
 static void case_flux_shinano(void) { two_speeds(FOC_EST_FLUX, 5.0, 10.0); }
 
-TK_CASES(TK_CASE(case_pll_shinano), TK_CASE(case_luenberger_shinano), TK_CASE(case_flux_shinano))
+/* The configured estimator's real sensorless start (align, open loop,
+ * hand-over) on this low-resistance motor, from 12 rotor angles: RUN and
+ * 1500 rpm, the phase current within the limit + 5 %. */
+static void case_sensorless_start_shinano(void)
+{
+    double worst = 0.0, peak = 0.0;
+    int ok = 0;
+    for (int a = 0; a < 360; a += 30) {
+        char text[128];
+        snprintf(text, sizeof text, "0 angle %d\n0 start\n0 speed 1500\n1.5 end\n", a);
+        run_t r;
+        run_scenario(text, FOC_ESTIMATOR, &r);
+        const double t_run = run_first_state(&r, 0.0, "RUN");
+        const double speed = r.rows[r.n - 1].speed_rpm;
+        ok += t_run > 0.0 && r.fault == 0 && speed > 1470.0 && speed < 1530.0;
+        worst = t_run > worst ? t_run : worst;
+        peak = r.peak_current_a > peak ? r.peak_current_a : peak;
+        run_free(&r);
+    }
+    printf("shinano sensorless start: %d/12 reach RUN and 1500 rpm, worst %.3f s, peak %.3f A "
+           "(limit %.2f A)\n", ok, worst, peak, CURRENT_LIMIT_A);
+    TK_CHECK(ok == 12, "%d of 12 starts failed", 12 - ok);
+    TK_CHECK(peak <= 1.05 * CURRENT_LIMIT_A, "peak %.3f A", peak);
+}
+
+TK_CASES(TK_CASE(case_sensorless_start_shinano), TK_CASE(case_pll_shinano), TK_CASE(case_luenberger_shinano), TK_CASE(case_flux_shinano))

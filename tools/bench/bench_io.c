@@ -57,7 +57,7 @@ int bench_file_open(bench_file_t *f, const uint8_t *data, uint32_t len)
         bench_get32(data + 20) != (uint32_t)CONTROL_SLOW_DIVIDER) {
         return -1;
     }
-    if (f->scenario_count > 1000u || f->frame_count > 10000000u) {
+    if (f->scenario_count > 32u || f->frame_count > 10000000u) {
         return -1;
     }
     const uint32_t table = BENCH_HEADER_BYTES + f->scenario_count * BENCH_SCENARIO_BYTES;
@@ -65,17 +65,27 @@ int bench_file_open(bench_file_t *f, const uint8_t *data, uint32_t len)
         return -1;
     }
     f->frames = data + table;
+    /* Scenarios back to back, each frame tagged with its own, the first
+     * one of each (only) marked as a reset. */
+    uint32_t next = 0;
     for (uint32_t i = 0; i < f->scenario_count; i++) {
         bench_scenario_t s;
         bench_scenario_get(f, i, &s);
-        if (s.first_frame > f->frame_count || s.frame_count > f->frame_count - s.first_frame) {
+        if (s.first_frame != next || s.frame_count == 0u ||
+            s.frame_count > f->frame_count - s.first_frame) {
             return -1;
         }
+        for (uint32_t k = s.first_frame; k < s.first_frame + s.frame_count; k++) {
+            const uint8_t *p = f->frames + k * BENCH_FRAME_BYTES;
+            const uint8_t reset = (uint8_t)((p[15] & BENCH_F_RESET) != 0u);
+            if (bench_get16(p + 18) != i || reset != (uint8_t)(k == s.first_frame)) {
+                return -1;
+            }
+        }
+        next = s.first_frame + s.frame_count;
     }
-    for (uint32_t i = 0; i < f->frame_count; i++) {
-        if (bench_get16(f->frames + i * BENCH_FRAME_BYTES + 18u) >= f->scenario_count) {
-            return -1;
-        }
+    if (next != f->frame_count) {
+        return -1;
     }
     return 0;
 }
@@ -131,15 +141,18 @@ void bench_scenario_from_ctrl(bench_scenario_t *s, const foc_ctrl_t *c)
     s->tuning = c->opt.tuning;
 }
 
-void bench_scenario_apply(const bench_scenario_t *s, foc_ctrl_t *c)
+int bench_scenario_apply(const bench_scenario_t *s, foc_ctrl_t *c)
 {
-    (void)foc_est_select(&c->est, (foc_est_kind_t)s->estimator);
+    if (foc_est_select(&c->est, (foc_est_kind_t)s->estimator) != 0) {
+        return -1;
+    }
     c->fw.mode = (foc_fw_mode_t)s->fw_mode;
     c->opt.stop_mode = (foc_stop_mode_t)s->stop_mode;
     c->protection.resistor_enabled = s->brake_resistor;
     c->opt.sensored_start = s->sensored_start;
     c->opt.open_loop_only = s->open_loop_only;
     c->opt.tuning = s->tuning;
+    return 0;
 }
 
 void bench_out_from(bench_out_t *o, const foc_ctrl_t *c, const bench_port_t *p)

@@ -119,9 +119,10 @@ void bench_port_pwm_disable(bench_port_t *p);
 void bench_port_low_sides_on(bench_port_t *p);
 
 /* The controller's configuration a scenario starts from (what the
- * recorder found after sim_init), and applying it after foc_init. */
+ * recorder found after sim_init), and applying it after foc_init: 0, or
+ * -1 if this core does not contain the scenario's estimator. */
 void bench_scenario_from_ctrl(bench_scenario_t *s, const foc_ctrl_t *c);
-void bench_scenario_apply(const bench_scenario_t *s, foc_ctrl_t *c);
+int bench_scenario_apply(const bench_scenario_t *s, foc_ctrl_t *c);
 
 void bench_out_from(bench_out_t *o, const foc_ctrl_t *c, const bench_port_t *p);
 void bench_out_encode(const bench_out_t *o, uint8_t buf[BENCH_OUT_BYTES]);

@@ -3,7 +3,12 @@
 # usage outputs), the frame-replay port and loop, the recorded frames.
 #
 #   make -f tools/bench/image.mk OUT=<dir> FRAMES=<frames.bin> USERPARMS=<userparms.h>
+#        [EXTRA_DEFS=-DFOC_ALL_ESTIMATORS]
 #
+# Without EXTRA_DEFS the core is built as firmware builds it (only the
+# estimator userparms.h selects, plus the sensor); with
+# -DFOC_ALL_ESTIMATORS it contains every estimator, like the host build, so
+# that every recorded scenario can be replayed.
 # Run from the repository root.  Outputs in OUT: bench.elf, bench.map,
 # libfoc_core.a, and per core object its .su (-fstack-usage) and .ci
 # (-fcallgraph-info=su) for the worst-case stack of the ISR path.
@@ -18,7 +23,7 @@ AR  := $(ARM_PREFIX)ar
 CPU      := -mcpu=cortex-m3 -mthumb
 OPT      ?= -O2
 WARN     := -Wall -Wextra -Wconversion -Werror
-DEFS     := -Iinclude -DFOC_USERPARMS_FILE='"$(USERPARMS)"'
+DEFS     := -Iinclude -DFOC_USERPARMS_FILE='"$(USERPARMS)"' $(EXTRA_DEFS)
 CORE_CFLAGS  := $(CPU) $(OPT) -std=c99 $(WARN) $(DEFS) -ffunction-sections \
                 -fdata-sections -fstack-usage -fcallgraph-info=su
 # The harness avoids library calls (no loop-to-memcpy rewriting) so that
@@ -34,10 +39,16 @@ BENCH_SRC := tools/bench/bench_io.c tools/bench/bench_port.c tools/bench/replay.
              tools/bench/arm/startup.c
 BENCH_OBJ := $(patsubst tools/bench/%.c,$(OUT)/harness/%.o,$(BENCH_SRC))
 HEADERS   := $(wildcard include/foc/*.h) $(wildcard tools/bench/*.h) $(USERPARMS) \
-             tools/bench/image.mk
+             tools/bench/image.mk $(OUT)/defs.stamp
 
 .PHONY: all
 all: $(OUT)/bench.elf
+
+# Rebuild everything when the defines change.
+$(OUT)/defs.stamp: FORCE
+	@mkdir -p $(@D)
+	@echo '$(DEFS) $(OPT)' | cmp -s - $@ || echo '$(DEFS) $(OPT)' > $@
+.PHONY: FORCE
 
 $(OUT)/core/%.o: src/%.c $(HEADERS)
 	@mkdir -p $(@D)

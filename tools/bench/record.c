@@ -439,6 +439,9 @@ int main(int argc, char **argv)
         return 1;
     }
     const size_t count = sizeof specs / sizeof specs[0];
+    if (count > MAX_SCENARIOS) {
+        die("too many scenarios");
+    }
     bench_scenario_t sc[MAX_SCENARIOS];
     buf_t frames = { NULL, 0, 0 };
     uint32_t total = 0;

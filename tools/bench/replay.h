@@ -10,7 +10,9 @@
  * function run twice.
  *
  * Per frame: set-up on the first frame of a scenario (foc_init, then the
- * recorded configuration), the recorded commands, foc_fast_step (which
+ * recorded configuration; a scenario whose estimator this core does not
+ * contain, or that bench_scenario_mask leaves out, is skipped whole), the
+ * recorded commands, foc_fast_step (which
  * reads the frame's samples through foc_port_read_samples), foc_slow_step
  * if the frame says it ran, then the outputs are encoded, hashed and
  * compared with the expected ones.
@@ -29,12 +31,18 @@ typedef struct {
     uint32_t mismatches;      /* frames whose outputs differ */
     uint32_t first_mismatch;  /* frame index, or BENCH_NO_MISMATCH */
     uint32_t hash;            /* FNV-1a of every frame's encoded outputs */
+    uint32_t skipped;         /* bit per scenario not run: masked out, or its
+                               * estimator is not built into this core */
     uint8_t first_actual[BENCH_OUT_BYTES]; /* outputs at first_mismatch */
 } bench_result_t;
 
 /* The controller the replay drives (global so that a map file shows its
  * size: it is the core's RAM). */
 extern foc_ctrl_t bench_ctrl;
+
+/* Scenarios to run, a bit each (all by default; the simulator may change
+ * it before the run). */
+extern uint32_t bench_scenario_mask;
 
 void bench_replay(const uint8_t *data, uint32_t len, bench_result_t *res);
 

@@ -1,0 +1,84 @@
+#!/usr/bin/python3
+"""Writes the fuzz harness's seed corpus (tests/fuzz/corpus): a few
+hand-made command sequences that reach the interesting states, for libFuzzer
+to mutate.  Format: see fuzz_controller.c (8-byte header, 16-byte records).
+
+    tests/fuzz/make_seeds.py tests/fuzz/corpus
+"""
+import os
+import struct
+import sys
+
+PLL, SENSORED, LUENBERGER, FLUX = 1, 0, 2, 3
+VDC_NOM = 14895   # 24 V on 52.8 V full scale (Hurst075 board), about
+TEMP_25C = 7447   # 0.75 V of 3.3 V
+
+
+def header(est=PLL, fw=2, stop=0, flags=0):
+    return bytes([est, fw, stop, flags, 0, 0, 0, 0])
+
+
+def rec(ia=0, ib=0, ic=0, vdc=VDC_NOM, temp=TEMP_25C, theta=0, phases=0, oc=0,
+        start=0, stop=0, ack=0, speed=None, spin=0, repeat=0):
+    ctl = (phases & 3) | (oc << 2) | (start << 3) | (stop << 4) | (ack << 5) \
+        | ((speed is not None) << 6) | (spin << 7)
+    return struct.pack("<hhhhhHBBh", ia, ib, ic, vdc, temp, theta & 0xFFFF, ctl,
+                       repeat, speed or 0)
+
+
+def idle(n):
+    out = b""
+    while n > 0:
+        k = min(n, 256)
+        out += rec(repeat=k - 1)
+        n -= k
+    return out
+
+
+def spinning(n, speed, amp=2000, phases=0):
+    """n periods of a sensor angle turning at `speed`, with sinusoid-ish
+    currents (coarse: one record per 16 periods)."""
+    out = b""
+    theta = 0
+    import math
+    for k in range(0, n, 16):
+        a = theta / 65536.0 * 2 * math.pi
+        ia = int(amp * math.sin(a))
+        ib = int(amp * math.sin(a - 2.094))
+        ic = -ia - ib
+        out += rec(ia, ib, ic, theta=theta, phases=phases, spin=1, speed=speed, repeat=15)
+        theta = (theta + 16 * (speed // 64)) & 0xFFFF
+    return out
+
+
+SEEDS = {
+    "sensored_run_stop": header(SENSORED) + rec(start=1, speed=4000) + idle(1300)
+    + spinning(2000, 4000) + rec(stop=1) + idle(600),
+    "pll_start": header(PLL) + rec(start=1, speed=6000) + idle(3000) + spinning(2000, 3000),
+    "flux_start_3shunt": header(FLUX) + rec(start=1, speed=-5000, phases=3) + idle(4000),
+    "luenberger_start": header(LUENBERGER) + rec(start=1, speed=5000) + idle(4000),
+    "overcurrent_ack": header(SENSORED) + rec(start=1, speed=3000) + idle(1300)
+    + rec(oc=1) + idle(2100) + rec(ack=1) + idle(20) + rec(start=1) + idle(1500),
+    "overvoltage_brake": header(PLL, flags=1) + rec(start=1, speed=3000) + idle(600)
+    + rec(vdc=24000, repeat=200) + rec(vdc=20000, repeat=200) + rec(vdc=14000, repeat=255)
+    + idle(2100) + rec(ack=1) + idle(100),
+    "undervoltage_overtemp": header(PLL) + rec(vdc=3000, repeat=50) + rec(ack=1)
+    + rec(temp=20000, repeat=255) + idle(2100) + rec(ack=1) + idle(30),
+    "short_brake": header(SENSORED, stop=2) + rec(start=1, speed=8000) + idle(1300)
+    + spinning(3000, 8000) + rec(stop=1) + spinning(2000, 2000),
+    "table_fw_reverse": header(SENSORED, fw=1) + rec(start=1, speed=20000) + idle(1300)
+    + spinning(2000, 20000) + rec(speed=-20000) + spinning(2000, -20000),
+}
+
+
+def main():
+    out = sys.argv[1] if len(sys.argv) > 1 else "tests/fuzz/corpus"
+    os.makedirs(out, exist_ok=True)
+    for name, data in SEEDS.items():
+        with open(os.path.join(out, name), "wb") as f:
+            f.write(data)
+    print("%d seeds -> %s" % (len(SEEDS), out))
+
+
+if __name__ == "__main__":
+    main()

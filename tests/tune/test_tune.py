@@ -1,0 +1,334 @@
+#!/usr/bin/env python3
+"""Tests of tools/tune.py (ctest runs one case per test; standard library).
+
+    test_tune.py reproduce_hurst <workdir>    userparms.h.in, byte for byte
+    test_tune.py reproduce_shinano <workdir>  boards/stm3210b_mckit/userparms.h
+    test_tune.py bad_inputs <workdir>         broken descriptions: a clear
+                                              error naming the problem, exit
+                                              status 1, nothing written
+    test_tune.py options <workdir>            conversions, flags, overrides;
+                                              the output differs from the
+                                              template only in values and
+                                              the header
+    test_tune.py focsim_summary <workdir> <focsim> <scenario>
+                                              focsim built on a generated
+                                              file reaches RUN, no fault
+"""
+
+import os
+import re
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+TUNE = os.path.join(REPO, "tools", "tune.py")
+HURST = os.path.join(REPO, "motors", "hurst075.ini")
+MCLV = os.path.join(REPO, "boards", "dspicdem_mclv", "board.ini")
+SHINANO = os.path.join(REPO, "motors", "shinano_la052.ini")
+STKIT = os.path.join(REPO, "boards", "stm3210b_mckit", "board.ini")
+LOWL = os.path.join(REPO, "motors", "test_lowl_highspeed.ini")
+LV40K = os.path.join(HERE, "board_lv40k.ini")
+
+failures = []
+
+
+def check(cond, what):
+    print(("ok    " if cond else "FAIL  ") + what)
+    if not cond:
+        failures.append(what)
+
+
+def tune(*args):
+    """Runs the tool from the repository root (relative paths in headers)."""
+    p = subprocess.run([sys.executable, TUNE] + list(args), cwd=REPO,
+                       capture_output=True, text=True)
+    return p.returncode, p.stdout, p.stderr
+
+
+def read(path):
+    with open(path, encoding="utf-8") as f:
+        return f.read()
+
+
+def defines(text):
+    """{name: value text} of the single-line #defines."""
+    return {m.group(1): m.group(2) for m in
+            re.finditer(r"^#define ([A-Z_0-9]+)[ \t]+(\S+)", text, re.M)}
+
+
+def reproduce(work, motor, board, shipped):
+    out = os.path.join(work, "out.h")
+    rc, so, se = tune("--motor", os.path.relpath(motor, REPO),
+                      "--board", os.path.relpath(board, REPO), "--out", out)
+    check(rc == 0, "tune.py exits 0 (%s)" % se.strip())
+    if rc != 0:
+        return
+    got, want = read(out), read(shipped)
+    if got != want:
+        import difflib
+        diff = difflib.unified_diff(want.splitlines(), got.splitlines(),
+                                    os.path.relpath(shipped, REPO), "tune.py output", lineterm="")
+        print("\n".join(list(diff)[:60]))
+    check(got == want, "%s equals the tool's output byte for byte" %
+          os.path.relpath(shipped, REPO))
+    if got != want:
+        print("after a change to the template, the tool or a description, regenerate it:\n"
+              "  python3 tools/tune.py --motor %s --board %s --out %s" % (
+                  os.path.relpath(motor, REPO), os.path.relpath(board, REPO),
+                  os.path.relpath(shipped, REPO)))
+
+
+# ------------------------------------------------------------ bad inputs --
+
+def edit(text, old, new):
+    """`text` with the line starting with `old` replaced by `new` (None:
+    removed); `old` must be there, so a case cannot silently test nothing."""
+    lines = text.split("\n")
+    hits = [k for k, l in enumerate(lines) if l.startswith(old)]
+    assert hits, "fixture: no line starting with %r" % old
+    if new is None:
+        del lines[hits[0]]
+    else:
+        lines[hits[0]] = new
+    return "\n".join(lines)
+
+
+# (what, motor edits, board edits, substrings the message must contain)
+BAD = [
+    ("missing field", [("rs_ohm", None)], [],
+     ["[motor] rs_ohm: missing", "stator resistance"]),
+    ("negative resistance", [("rs_ohm", "rs_ohm = -5.08")], [],
+     ["rs_ohm = -5.08", "must be greater than 0"]),
+    ("not a number", [("ke_vpk_ll_per_krpm", "ke_vpk_ll_per_krpm = 7,24")], [],
+     ["ke_vpk_ll_per_krpm = 7,24", "not a number"]),
+    ("misspelt field", [("rs_ohm", "rs_ohms = 5.08")], [],
+     ["rs_ohms", "unknown field", "did you mean rs_ohm"]),
+    ("two back-EMF constants", [("ke_vpk_ll_per_krpm",
+                                 "ke_vpk_ll_per_krpm = 7.24\nke_vrms_ll_per_krpm = 5.12")], [],
+     ["exactly one of", "ke_vpk_ll_per_krpm", "ke_vrms_ll_per_krpm"]),
+    ("bad connection", [("connection", "connection = triangle")], [],
+     ["connection = triangle", "star or delta"]),
+    ("fractional pole pairs", [("pole_pairs", "pole_pairs = 2.5")], [],
+     ["pole_pairs = 2.5", "whole number"]),
+    ("max speed below nominal", [("max_speed_rpm", "max_speed_rpm = 1000")], [],
+     ["max_speed_rpm = 1000", "below nominal_speed_rpm"]),
+    ("current limit above the board's full scale",
+     [("max_current_a_peak", "max_current_a_peak = 5")], [],
+     ["current limit 5 A", "max_current_a_peak", "full-scale current 4.4 A"]),
+    ("rated current above the board's full scale",
+     [("rated_current_a_rms", "rated_current_a_rms = 3.5")], [],
+     ["rated current 4.95 A", "full-scale current 4.4 A"]),
+    ("inductance so high a constant overflows (henry for millihenry)",
+     [("ls_h", "ls_h = 3.84")], [],
+     ["inductance is too high", "ls_h in henry", "Ls = 1.92 H"]),
+    ("back-EMF far too high for the bus", [("ke_vpk_ll_per_krpm", "ke_vpk_ll_per_krpm = 724")],
+     [], ["cannot reach its nominal speed", "back-EMF constant"]),
+    ("back-EMF far too low", [("ke_vpk_ll_per_krpm", "ke_vpk_ll_per_krpm = 0.01")], [],
+     ["back-EMF constant (0.01 V", "too low"]),
+    ("inertia overflows the speed PI", [("inertia_kgm2", "inertia_kgm2 = 10")], [],
+     ["inertia_kgm2 (10 kg m^2)", "speed PI"]),
+    ("PWM too slow for the electrical frequency", [],
+     [("pwm_frequency_hz", "pwm_frequency_hz = 4000")],
+     ["electrical frequency 333 Hz", "pwm_frequency_hz = 4000 Hz", "12.0 PWM periods per"]),
+    ("dead time too long", [], [("deadtime_s", "deadtime_s = 10e-6")],
+     ["deadtime_s", "20 % of the PWM period"]),
+    ("bus above the bus ADC full scale", [], [("vdc_divider_ratio", "vdc_divider_ratio = 0.2")],
+     ["vdc_nominal_v (24 V) must be below the bus ADC full scale (16.5 V"]),
+    ("missing section", [("[motor]", "[moter]")], [],
+     ["no [motor] section"]),
+    ("unknown override", [("notes", "notes = x\n[userparms]\nNO_SUCH_PARAM = 1")], [],
+     ["[userparms] NO_SUCH_PARAM", "no such parameter"]),
+]
+
+
+def bad_inputs(work):
+    motor0, board0 = read(HURST), read(MCLV)
+    # the fixtures are valid before the edits
+    m, b = os.path.join(work, "motor.ini"), os.path.join(work, "board.ini")
+    with open(m, "w") as f:
+        f.write(motor0)
+    with open(b, "w") as f:
+        f.write(board0)
+    rc, _, se = tune("--motor", m, "--board", b, "--check")
+    check(rc == 0, "unedited fixtures are accepted (%s)" % se.strip())
+    for what, medits, bedits, expect in BAD:
+        mt, bt = motor0, board0
+        for old, new in medits:
+            mt = edit(mt, old, new)
+        for old, new in bedits:
+            bt = edit(bt, old, new)
+        with open(m, "w") as f:
+            f.write(mt)
+        with open(b, "w") as f:
+            f.write(bt)
+        fresh = os.path.join(work, "fresh.h")
+        existing = os.path.join(work, "existing.h")
+        with open(existing, "w") as f:
+            f.write("sentinel\n")
+        if os.path.exists(fresh):
+            os.unlink(fresh)
+        rc1, so1, se1 = tune("--motor", m, "--board", b, "--out", fresh)
+        rc2, so2, se2 = tune("--motor", m, "--board", b, "--out", existing)
+        msg = se1.strip().splitlines()[0] if se1.strip() else "(no message)"
+        print("      %s: %s" % (what, msg))
+        check(rc1 == 1 and rc2 == 1, "%s: exit status 1 (got %d, %d)" % (what, rc1, rc2))
+        missing = [s for s in expect if s not in se1]
+        check(not missing, "%s: the message names the problem (missing %s)" % (what, missing))
+        check(se1.startswith("tune.py: error: ") and "nothing written" in se1,
+              "%s: one error line, then 'nothing written'" % what)
+        check(not os.path.exists(fresh) and read(existing) == "sentinel\n" and
+              "wrote" not in so1 + so2, "%s: nothing written" % what)
+        leftovers = [f for f in os.listdir(work) if f.startswith(".tune-")]
+        check(not leftovers, "%s: no temporary file left" % what)
+
+
+# --------------------------------------------------------------- options --
+
+def write(work, name, text):
+    path = os.path.join(work, name)
+    with open(path, "w") as f:
+        f.write(text)
+    return path
+
+
+def generate(work, motor, board, *extra):
+    out = os.path.join(work, "gen.h")
+    rc, so, se = tune("--motor", motor, "--board", board, "--out", out, *extra)
+    check(rc == 0, "tune.py %s exits 0 %s" % (" ".join(extra), se.strip()))
+    return read(out) if rc == 0 else ""
+
+
+def options(work):
+    template = read(os.path.join(REPO, "userparms.h.in"))
+    tdefs = defines(template)
+
+    # Resistance and inductance conversions: line-to-line / 2 (star and
+    # delta), delta phase / 3; back-EMF as V rms and as flux linkage.
+    base = read(HURST)
+    as_phase = edit(edit(edit(base, "rl_measured", "rl_measured = phase"),
+                         "rs_ohm", "rs_ohm = 2.54"), "ls_h", "ls_h = 1.92e-3")
+    as_delta = edit(edit(edit(edit(base, "rl_measured", "rl_measured = phase"),
+                              "connection", "connection = delta"),
+                         "rs_ohm", "rs_ohm = 7.62"), "ls_h", "ls_h = 5.76e-3")
+    as_delta_ll = edit(base, "connection", "connection = delta")
+    # 7.24 V peak = 5.1194 V rms; flux = 7.24 / sqrt(3) / (1000 x 5 x 2 pi / 60)
+    as_vrms = edit(base, "ke_vpk_ll_per_krpm", "ke_vrms_ll_per_krpm = 5.119453")
+    as_flux = edit(base, "ke_vpk_ll_per_krpm", "flux_linkage_wb = 0.00798322")
+    ref = defines(generate(work, HURST, MCLV))
+    for what, text in (("per-phase star values", as_phase),
+                       ("delta phase values / 3", as_delta),
+                       ("delta line-to-line values / 2", as_delta_ll),
+                       ("Ke in V rms", as_vrms), ("flux linkage", as_flux)):
+        got = defines(generate(work, write(work, "m.ini", text), MCLV))
+        keys = ["MOTOR_RS_OHM", "MOTOR_LD_H", "MOTOR_LQ_H", "MOTOR_KE_VPK_PER_KRPM",
+                "CURRENT_KP_V_PER_A", "SPEED_KP_A_PER_RPM"]
+        diff = [(k, ref.get(k), got.get(k)) for k in keys if ref.get(k) != got.get(k)]
+        check(not diff, "%s give the same motor (%s)" % (what, diff))
+
+    # Flags and options.
+    text = generate(work, LOWL, LV40K, "--open-loop-functioning", "--tuning",
+                    "--estimator", "flux", "--fw-tables")
+    check(re.search(r"^#define OPEN_LOOP_FUNCTIONING$", text, re.M) is not None,
+          "--open-loop-functioning enables OPEN_LOOP_FUNCTIONING")
+    check(re.search(r"^#define TUNING$", text, re.M) is not None, "--tuning enables TUNING")
+    check(defines(text).get("FOC_ESTIMATOR") == "FOC_EST_FLUX", "--estimator flux")
+    check(text.count("FOC_I_Q15(") >= 18 and "#define FW_ID_TABLE" in text,
+          "--fw-tables writes the three tables")
+    text = generate(work, LOWL, LV40K, "--current-bw-hz", "500", "--speed-bw-rad-s", "300")
+    d = defines(text)
+    check(abs(float(d["CURRENT_KP_V_PER_A"]) - 60e-6 * 2 * 3.14159265 * 500) < 1e-3 and
+          abs(float(d["CURRENT_KI_V_PER_AS"]) - 0.1 * 2 * 3.14159265 * 500) < 0.1,
+          "--current-bw-hz 500: Kp = Lq wc, Ki = Rs wc (%s, %s)" % (
+              d["CURRENT_KP_V_PER_A"], d["CURRENT_KI_V_PER_AS"]))
+    psi = 1.3 * 2 ** 0.5 / 3 ** 0.5 / (1000 * 4 * 2 * 3.14159265 / 60)
+    kp = 1.5e-5 * 300 / (1.5 * 4 * psi) * 2 * 3.14159265 / 60
+    check(abs(float(d["SPEED_KP_A_PER_RPM"]) / kp - 1) < 1e-3 and
+          abs(float(d["SPEED_KI_A_PER_RPM_S"]) / (kp * 75) - 1) < 1e-3,
+          "--speed-bw-rad-s 300: Kp = J wb / Kt, Ki = Kp wb / 4 (%s, %s)" % (
+              d["SPEED_KP_A_PER_RPM"], d["SPEED_KI_A_PER_RPM_S"]))
+    rc, so, se = tune("--motor", LOWL, "--board", LV40K, "--speed-bw-rad-s", "5000",
+                      "--check")
+    check(rc == 1 and "--speed-bw-rad-s 5000" in se, "a speed loop faster than the current "
+          "loop / 4 is refused")
+
+    # [userparms] overrides: a value pinned in a description.
+    pinned = base + "\n[userparms]\nSTARTUP_RAMP_TIME_S = 0.4\n" \
+        "FOC_ESTIMATOR = FOC_EST_LUENBERGER\n"
+    d = defines(generate(work, write(work, "m.ini", pinned), MCLV))
+    check(d.get("STARTUP_RAMP_TIME_S") == "0.4" and
+          d.get("FOC_ESTIMATOR") == "FOC_EST_LUENBERGER", "[userparms] pins values")
+
+    # --check writes nothing.
+    out = os.path.join(work, "never.h")
+    rc, so, se = tune("--motor", LOWL, "--board", LV40K, "--out", out, "--check")
+    check(rc == 0 and not os.path.exists(out) and "base speed" in so,
+          "--check reports and writes nothing")
+
+    # Another motor's output differs from the template only in values and
+    # the generated header; every parameter of the template is there.
+    text = generate(work, LOWL, LV40K)
+    tl, gl = template.split("\n"), text.split("\n")
+    hdr = lambda ls: [k for k, l in enumerate(ls) if l.startswith(" * Motor:")][0]
+    end = lambda ls, k: next(j for j in range(k, len(ls)) if ls[j] == " *")
+    tk, gk = hdr(tl), hdr(gl)
+    t_rest, g_rest = tl[end(tl, tk):], gl[end(gl, gk):]
+    check(tl[:tk] == gl[:gk] and len(t_rest) == len(g_rest),
+          "same lines outside the header (%d, %d)" % (len(t_rest), len(g_rest)))
+    bad = []
+    for a, b in zip(t_rest, g_rest):
+        if a != b:
+            ma = re.match(r"^#define ([A-Z_0-9]+)\s", a)
+            mb = re.match(r"^#define ([A-Z_0-9]+)\s", b)
+            if not (ma and mb and ma.group(1) == mb.group(1)):
+                bad.append((a, b))
+    check(not bad, "only #define values differ (%s)" % bad[:2])
+    check(set(defines(text)) == set(tdefs), "every template parameter is kept")
+    header = "\n".join(gl[gk:end(gl, gk)])
+    check("motors/test_lowl_highspeed.ini" in header and "Written by tools/tune.py" in header,
+          "the header says what it was generated from")
+    d = defines(text)
+    check(d["MOTOR_RS_OHM"] == "0.1" and d["MOTOR_LQ_H"] == "6.0e-5" and
+          d["MOTOR_POLE_PAIRS"] == "4", "test motor: delta phase values / 3 (%s, %s)" % (
+              d["MOTOR_RS_OHM"], d["MOTOR_LQ_H"]))
+
+
+def focsim_summary(work, focsim, scenario):
+    p = subprocess.run([focsim, "--scenario", scenario, "--csv",
+                        os.path.join(work, "run.csv")], capture_output=True, text=True)
+    print(p.stdout + p.stderr)
+    s = dict(l.split("=", 1) for l in p.stdout.splitlines() if "=" in l)
+    check(p.returncode == 0, "focsim exits 0")
+    check(s.get("final_state") == "RUN" and s.get("fault") == "NONE",
+          "final state RUN, no fault (%s, %s)" % (s.get("final_state"), s.get("fault")))
+    t = float(s.get("closed_loop_time_s", "-1"))
+    check(0.0 < t < 0.6, "closed loop within 0.6 s of start (%.3f s)" % t)
+    ref, speed = float(s.get("speed_ref_rpm_final", "nan")), float(s.get("speed_rpm_final",
+                                                                          "nan"))
+    check(abs(speed - ref) <= 0.01 * abs(ref), "final speed %.1f rpm within 1 %% of %.1f" % (
+        speed, ref))
+
+
+def main():
+    case, work = sys.argv[1], sys.argv[2]
+    os.makedirs(work, exist_ok=True)
+    if case == "reproduce_hurst":
+        reproduce(work, HURST, MCLV, os.path.join(REPO, "userparms.h.in"))
+    elif case == "reproduce_shinano":
+        reproduce(work, SHINANO, STKIT,
+                  os.path.join(REPO, "boards", "stm3210b_mckit", "userparms.h"))
+    elif case == "bad_inputs":
+        bad_inputs(work)
+    elif case == "options":
+        options(work)
+    elif case == "focsim_summary":
+        focsim_summary(work, sys.argv[3], sys.argv[4])
+    else:
+        print("unknown case %s" % case)
+        return 2
+    print("%s: %s" % (case, "FAIL (%d)" % len(failures) if failures else "ok"))
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
