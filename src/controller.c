@@ -41,11 +41,27 @@ static void outputs_off(foc_ctrl_t *c)
     c->i_ref = zero_dq;
 }
 
+static int32_t speed_squared(q15_t s)
+{
+    return (int32_t)s * s; /* Q30 */
+}
+
 /* Raises every fault in `faults` (lowest bit first, so the first fault
- * recorded is deterministic) and turns the outputs off. */
+ * recorded is deterministic) and turns the outputs off, or, with
+ * FAULT_BRAKE and a rotor slow enough for the short-circuit current to stay
+ * within the limit, shorts the windings (never for an over-current). */
 static void trip(foc_ctrl_t *c, uint16_t faults)
 {
-    foc_port_pwm_disable();
+    const uint8_t brake = (uint8_t)(c->opt.fault_brake != 0u &&
+                                    (faults & (uint16_t)FOC_FAULT_OVERCURRENT) == 0u &&
+                                    (c->faults.active & (uint16_t)FOC_FAULT_OVERCURRENT) == 0u &&
+                                    speed_squared(c->est.speed) <= FOC_SHORT_SAFE_SPEED2);
+    if (brake != 0u) {
+        foc_port_low_sides_on();
+    } else {
+        foc_port_pwm_disable();
+    }
+    c->shorting = brake;
     for (uint16_t bit = 1u; bit != 0u && bit <= faults; bit = (uint16_t)(bit << 1)) {
         if ((faults & bit) != 0u) {
             foc_faults_raise(&c->faults, (foc_fault_t)bit);
@@ -77,6 +93,7 @@ void foc_init(foc_ctrl_t *c)
     c->opt.tuning = TUNING_RAMP;
     c->opt.sensored_start = 0;
     c->opt.deadtime_comp = (uint8_t)(DEADTIME_COMPENSATION != 0);
+    c->opt.fault_brake = (uint8_t)(FAULT_BRAKE != 0);
     foc_faults_clear(&c->faults);
     c->i_ab = zero_ab;
     c->i_dq = zero_dq;
@@ -387,11 +404,6 @@ static void run_tick(foc_ctrl_t *c)
     }
 }
 
-static int32_t speed_squared(q15_t s)
-{
-    return (int32_t)s * s; /* Q30 */
-}
-
 static void brake_tick(foc_ctrl_t *c)
 {
     if (c->shorting != 0u) {
@@ -412,7 +424,13 @@ static void brake_tick(foc_ctrl_t *c)
 
 static void fault_tick(foc_ctrl_t *c)
 {
-    outputs_off(c);
+    /* A fault brake keeps the windings shorted until the rotor stands. */
+    if (c->shorting != 0u && c->state_ticks >= FOC_SHORT_HOLD_TICKS) {
+        c->shorting = 0;
+    }
+    if (c->shorting == 0u) {
+        outputs_off(c);
+    }
     if (c->req.ack == 0u || c->state_ticks < FOC_ACK_MIN_TICKS) {
         return;
     }

@@ -235,6 +235,9 @@
  * OVERVOLTAGE_V switches it instead of tripping (the trip then comes only
  * at 1.2 x OVERVOLTAGE_V, a resistor that cannot cope). */
 #define STOP_MODE                   STOP_MODE_RAMP
+/* FAULT_BRAKE 1: a fault other than over-current shorts the windings (when
+ * the rotor is below the safe speed above) instead of letting it coast. */
+#define FAULT_BRAKE                 0
 #define BRAKE_RESISTOR_ENABLE       0
 #define BRAKE_RESISTOR_ON_V         29.0
 #define BRAKE_RESISTOR_OFF_V        27.0

@@ -30,7 +30,8 @@
  *                 windings shorted) | coast (outputs off) --> IDLE
  *   RUN, reference of the other sign (sensorless): ramp down to low speed,
  *                 then ALIGN and start again in the new direction.
- *   any state --fault--> FAULT (outputs off) --ack after
+ *   any state --fault--> FAULT (outputs off, or windings shorted with
+ *                 FAULT_BRAKE) --ack after
  *                 FAULT_ACK_MIN_TIME_S with every cause gone--> IDLE
  * Protection (bus, temperature, over-current) is active in every state.
  */
@@ -85,6 +86,8 @@ typedef struct {
     uint8_t sensored_start; /* run on the position sensor until the */
                             /* hand-over speed (boards with a sensor) */
     uint8_t deadtime_comp;  /* DEADTIME_COMPENSATION (deadtime.h) */
+    uint8_t fault_brake;    /* FAULT_BRAKE: a fault shorts the windings */
+                            /* (below the safe speed, not for over-current) */
 } foc_options_t;
 
 typedef struct {

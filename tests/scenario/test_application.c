@@ -278,7 +278,43 @@ static void case_braking(void)
     TK_CHECK(vmax[2] < OVERVOLTAGE_V, "bus %.2f V with the resistor", vmax[2]);
 }
 
-TK_CASES(TK_CASE(case_startup_matrix), TK_CASE(case_locked_rotor_fails_startup),
+/* FAULT_BRAKE: an over-voltage at 1000 rpm (below the short-circuit safe
+ * speed) shorts the windings: the rotor stops far sooner than coasting,
+ * current within the limit; at 3000 rpm (above it) the outputs go off. */
+static void case_fault_brake(void)
+{
+    sim_options_t opt;
+    sim_default_options(&opt);
+    opt.fault_brake = 1;
+    run_t r;
+    run_scenario_with("0 start\n0 speed 1000\n0.8 vdc 40\n1.6 end\n", &opt, &r);
+    const size_t k = run_index_at(&r, 0.8);
+    double t_stop = -1.0;
+    for (size_t j = k; j < r.n; j++) {
+        if (fabs(r.rows[j].speed_rpm) < 20.0) {
+            t_stop = r.rows[j].t_s - 0.8;
+            break;
+        }
+    }
+    const double peak = run_max_phase_current(&r, 0.8, 1.6);
+    const int shorted = r.rows[k].bridge == PMSM_BRIDGE_LOW_SIDES;
+    const int off_later = r.rows[r.n - 1].bridge == PMSM_BRIDGE_OFF;
+    printf("fault brake at 1000 rpm: windings shorted %s, stopped (< 20 rpm) after %.3f s, peak "
+           "%.3f A, outputs off afterwards %s\n",
+           shorted ? "yes" : "NO", t_stop, peak, off_later ? "yes" : "NO");
+    TK_CHECK(shorted && off_later, "shorted %d, off later %d", shorted, off_later);
+    TK_CHECK(t_stop > 0.0 && t_stop < 0.2, "stop after %.3f s", t_stop);
+    TK_CHECK(peak <= LIMIT_A, "peak %.3f A", peak);
+    run_free(&r);
+
+    run_scenario_with("0 start\n0 speed 3000\n0.8 vdc 40\n1.0 end\n", &opt, &r);
+    const int fast_off = r.rows[run_index_at(&r, 0.8)].bridge == PMSM_BRIDGE_OFF;
+    printf("fault at 3000 rpm (above the safe speed): outputs off %s\n", fast_off ? "yes" : "NO");
+    TK_CHECK(fast_off, "shorted above the safe speed");
+    run_free(&r);
+}
+
+TK_CASES(TK_CASE(case_fault_brake), TK_CASE(case_startup_matrix), TK_CASE(case_locked_rotor_fails_startup),
          TK_CASE(case_field_weakening_4000rpm), TK_CASE(case_stall_detected),
          TK_CASE(case_no_false_trip), TK_CASE(case_fault_overcurrent),
          TK_CASE(case_fault_overvoltage), TK_CASE(case_fault_undervoltage),

@@ -68,6 +68,7 @@ void sim_default_options(sim_options_t *o)
     o->brake_resistor = -1;
     o->sensored_start = 0;
     o->ideal_inverter = 0;
+    o->fault_brake = -1;
 }
 
 /* The plant as userparms.h describes it. */
@@ -113,6 +114,9 @@ int sim_init(sim_t *s, const sim_options_t *o, const scn_t *scn, char *err,
         s->ctrl.protection.resistor_enabled = (uint8_t)o->brake_resistor;
     }
     s->ctrl.opt.sensored_start = (uint8_t)(o->sensored_start != 0);
+    if (o->fault_brake >= 0) {
+        s->ctrl.opt.fault_brake = (uint8_t)(o->fault_brake != 0);
+    }
     if (o->ideal_inverter != 0) {
         s->model.p.deadtime_s = 0.0;
         s->ctrl.opt.deadtime_comp = 0;

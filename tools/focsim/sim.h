@@ -34,6 +34,7 @@ typedef struct {
                             /* hand-over speed (a test aid) */
     int ideal_inverter;     /* 1: plant without dead time and the */
                             /* controller without compensation */
+    int fault_brake;        /* 0/1, or -1 for userparms.h's FAULT_BRAKE */
 } sim_options_t;
 
 /* userparms.h's choices, seed 1, no sensored start. */
