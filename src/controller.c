@@ -319,7 +319,7 @@ static void speed_loop(foc_ctrl_t *c, q15_t target)
 {
     /* TUNING: the reference creeps toward the command. */
     c->speed_ctrl.target = target;
-    c->speed_ctrl.step16 = (c->opt.tuning != 0u) ? FOC_TUNING_RAMP_STEP16 : FOC_SPEED_RAMP_STEP16;
+    c->speed_ctrl.step15 = (c->opt.tuning != 0u) ? FOC_TUNING_RAMP_STEP15 : FOC_SPEED_RAMP_STEP15;
     const q15_t v_mag = foc_mag_q15(c->v_dq.d, c->v_dq.q);
     const q15_t id_fw = foc_fw_step(&c->fw, c->speed_ctrl.ramped, v_mag, c->bus.v_max);
     c->handover_id = foc_slew_q15(c->handover_id, 0, FOC_HANDOVER_ID_STEP);
@@ -504,8 +504,14 @@ void foc_slow_step(foc_ctrl_t *c)
         c->start_ticks++;
     }
     const uint16_t faults = foc_protection_check(&c->protection, c->samples.vdc, c->samples.temp);
-    if (faults != 0u && c->state != FOC_STATE_FAULT) {
-        trip(c, faults);
+    if (faults != 0u) {
+        if (c->state != FOC_STATE_FAULT) {
+            trip(c, faults);
+        } else {
+            /* a new cause during a fault joins the set, so the acknowledge
+             * waits for it too (the fault's timer keeps running) */
+            c->faults.active = (uint16_t)(c->faults.active | faults);
+        }
     }
     state_machine(c);
 }

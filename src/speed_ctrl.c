@@ -6,8 +6,8 @@ void foc_sc_init(foc_speed_ctrl_t *sc)
 {
     sc->target = 0;
     sc->ramped = 0;
-    sc->ramped16 = 0;
-    sc->step16 = FOC_SPEED_RAMP_STEP16;
+    sc->ramped15 = 0;
+    sc->step15 = FOC_SPEED_RAMP_STEP15;
     foc_pi_init(&sc->pi, FOC_SPEED_KP_MANT, FOC_SPEED_KP_SHIFT, FOC_SPEED_KI_MANT, FOC_SPEED_KI_SHIFT,
                 FOC_SPEED_KC, (q15_t)-FOC_CURRENT_LIMIT, FOC_CURRENT_LIMIT);
 }
@@ -15,7 +15,7 @@ void foc_sc_init(foc_speed_ctrl_t *sc)
 void foc_sc_preset(foc_speed_ctrl_t *sc, q15_t speed_meas, q15_t iq_now)
 {
     sc->ramped = speed_meas;
-    sc->ramped16 = (int32_t)speed_meas * 65536;
+    sc->ramped15 = (int32_t)speed_meas * 32768;
     foc_pi_preset(&sc->pi, iq_now);
 }
 
@@ -32,13 +32,15 @@ q15_t foc_sc_iq_limit(q15_t id_ref)
 q15_t foc_sc_step(foc_speed_ctrl_t *sc, q15_t speed_meas, q15_t id_ref)
 {
     const q15_t iq_max = foc_sc_iq_limit(id_ref);
-    /* |ramped16| < 2^31 and the step < 2^30: no overflow. */
-    const int32_t target16 = (int32_t)sc->target * 65536;
-    const int32_t diff = target16 - sc->ramped16;
-    sc->ramped16 = (diff > sc->step16)    ? sc->ramped16 + sc->step16
-                   : (diff < -sc->step16) ? sc->ramped16 - sc->step16
-                                          : target16;
-    sc->ramped = (q15_t)(sc->ramped16 >> 16);
+    /* Q15.15: |target|, |ramped| <= 2^30, so the difference (< 2^31) and
+     * a step toward the target cannot overflow, even for a reversal from
+     * full scale to full scale. */
+    const int32_t target15 = (int32_t)sc->target * 32768;
+    const int32_t diff = target15 - sc->ramped15;
+    sc->ramped15 = (diff > sc->step15)    ? sc->ramped15 + sc->step15
+                   : (diff < -sc->step15) ? sc->ramped15 - sc->step15
+                                          : target15;
+    sc->ramped = (q15_t)(sc->ramped15 >> 15);
     foc_pi_set_limits(&sc->pi, (q15_t)-iq_max, iq_max);
     return foc_pi_step(&sc->pi, foc_sub_q15(sc->ramped, speed_meas));
 }

@@ -100,10 +100,10 @@
 #define FOC_SPEED_KI_MANT FOC_GAIN_MANT(FOC_SPEED_KI_PU)
 #define FOC_SPEED_KI_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_SPEED_KI_PU))
 #define FOC_SPEED_KC Q15(FOC_SPEED_KI_PU / FOC_SPEED_KP_PU)
-/* Reference slew per slow tick in Q15.16 (speed x 65536), so slow ramps
+/* Reference slew per slow tick in Q15.15 (speed x 32768), so slow ramps
  * keep their rate exactly. */
 #define FOC_SPEED_RAMP_STEP_PU (SPEED_RAMP_RPM_PER_S * FOC_SLOW_TS_S / SPEED_BASE_RPM)
-#define FOC_SPEED_RAMP_STEP16 ((int32_t)(FOC_SPEED_RAMP_STEP_PU * 32768.0 * 65536.0 + 0.5))
+#define FOC_SPEED_RAMP_STEP15 ((int32_t)(FOC_SPEED_RAMP_STEP_PU * 32768.0 * 32768.0 + 0.5))
 #define FOC_STOP_SPEED FOC_SPEED_Q15(STOP_SPEED_RPM)
 /* Filter constant K = 1 - exp(-Ts/tau) ~ Ts/(tau + Ts) per PWM period. */
 #define FOC_SPEED_FILTER_K Q15(FOC_TS_S / (SPEED_FILTER_TIME_S + FOC_TS_S))
@@ -449,8 +449,8 @@ FOC_STATIC_ASSERT(FOC_NORM_OK(FOC_SOBS_FF_X),
 /* The hand-over d current (at most the start-up current) fades at this
  * rate per slow tick. */
 #define FOC_HANDOVER_ID_STEP FOC_STEP_PER_TICK(FOC_ALIGN_CURRENT, FOC_HANDOVER_TICKS)
-#define FOC_TUNING_RAMP_STEP16                                                 \
-    ((int32_t)(TUNING_RAMP_RPM_PER_S * FOC_SLOW_TS_S / SPEED_BASE_RPM * 32768.0 * 65536.0 + 0.5))
+#define FOC_TUNING_RAMP_STEP15                                                 \
+    ((int32_t)(TUNING_RAMP_RPM_PER_S * FOC_SLOW_TS_S / SPEED_BASE_RPM * 32768.0 * 32768.0 + 0.5))
 
 /* ------------------------------------------------------- supervision -- */
 #define FOC_STALL_VARIANCE_THRESHOLD Q15(STALL_VARIANCE_THRESHOLD)
@@ -518,7 +518,7 @@ FOC_STATIC_ASSERT(FOC_SPEED_KI_PU < 32768.0,
 FOC_STATIC_ASSERT(FOC_SPEED_KI_PU / FOC_SPEED_KP_PU < 1.0,
                   "SPEED_KI_A_PER_RPM_S / SPEED_KP_A_PER_RPM too high for the "
                   "anti-windup gain");
-FOC_STATIC_ASSERT(FOC_SPEED_RAMP_STEP16 >= 1 && FOC_TUNING_RAMP_STEP16 >= 1,
+FOC_STATIC_ASSERT(FOC_SPEED_RAMP_STEP15 >= 1 && FOC_TUNING_RAMP_STEP15 >= 1,
                   "SPEED_RAMP_RPM_PER_S / TUNING_RAMP_RPM_PER_S too small");
 FOC_STATIC_ASSERT(FOC_SPEED_RAMP_STEP_PU < 0.5,
                   "SPEED_RAMP_RPM_PER_S too high for the slow tick");

@@ -14,8 +14,8 @@
 typedef struct {
     q15_t target;     /* commanded speed, Q15 */
     q15_t ramped;     /* reference after the slew limit, Q15 */
-    int32_t ramped16; /* the same, Q15.16: the ramp's exact accumulator */
-    int32_t step16;   /* slew per slow tick, Q15.16 (SPEED_RAMP_RPM_PER_S, */
+    int32_t ramped15; /* the same, Q15.15: the ramp's exact accumulator */
+    int32_t step15;   /* slew per slow tick, Q15.15 (SPEED_RAMP_RPM_PER_S, */
                       /* or TUNING_RAMP_RPM_PER_S in TUNING) */
     foc_pi_q15_t pi;
 } foc_speed_ctrl_t;

@@ -199,9 +199,9 @@ static void case_tuning_field_weakening(void)
     sim_default_options(&opt);
     opt.fw_mode = FW_MODE_TABLE;
     const double top = MOTOR_MAX_SPEED_RPM;
-    /* The slope the firmware gives (Q15.16 steps: TUNING_RAMP_RPM_PER_S
+    /* The slope the firmware gives (Q15.15 steps: TUNING_RAMP_RPM_PER_S
      * within rounding). */
-    const double slope_fw = FOC_TUNING_RAMP_STEP16 / 65536.0 * SPEED_BASE_RPM / 32768.0 / FOC_SLOW_TS_S;
+    const double slope_fw = FOC_TUNING_RAMP_STEP15 / 32768.0 * SPEED_BASE_RPM / 32768.0 / FOC_SLOW_TS_S;
     const double t_end = 0.6 + top / slope_fw + 1.0;
     char text[128];
     snprintf(text, sizeof text, "0 start\n0 speed %g\n%g end\n", top, t_end);
