@@ -216,3 +216,123 @@ $(STM32_OUT)/obj/%.o: %.c $(STM32_OUT)/cflags
 	$(STM32_CC) $(STM32_CFLAGS) -MMD -MP -c $< -o $@
 
 -include $(STM32_OBJ:.o=.d)
+
+# ---------------------------------------------------------- bench, check --
+# make bench    the core (-O2, as firmware builds it) replaying recorded
+#               focsim frames (tools/bench) in a bare-metal Cortex-M3 image on
+#               an instruction-set simulator (tools/bench/bench.py, Unicorn):
+#               cycles and instructions per control step, flash, RAM, ISR
+#               stack, where the cycles go -> build/bench/report.txt, ending
+#               with key=value lines (docs/benchmarks.md).
+# make check    after `make test`: every host test under ASan+UBSan
+#               (build/sanitize), short libFuzzer runs, static analysis and
+#               the bench (not gated on cycles); runs all four, fails if any
+#               failed.  Needs clang, cppcheck, clang-tidy, the Cortex-M3
+#               toolchain and python3-unicorn/-capstone/-pyelftools.
+# make fuzz     a long libFuzzer run of one harness (tests/fuzz):
+#               FUZZ_TARGET=controller|monitor, FUZZ_TIME=<s> (600),
+#               FUZZ_JOBS (2), FUZZ_ENV=FUZZ_TRACE=1 (harness trace)
+#               -> build/fuzz/<target>/{corpus,crashes,fuzz.log}
+# make fuzz-cov line coverage of the core by both fuzz corpora (llvm-cov)
+# make static   cppcheck (MISRA C 2012 addon) and clang-tidy over the core,
+#               hal/ and boards/ (tests/quality, docs/static-analysis.md)
+BENCH_OUT    := build/bench
+BENCH_FRAMES := $(BUILD)/bench/frames.bin
+BENCH_PARMS  := $$(cat $(BUILD)/bench/userparms.path)
+SAN_BUILD    := build/sanitize
+FUZZ_OUT     := build/fuzz
+FUZZ_TARGET  ?= controller
+FUZZ_TIME    ?= 600
+FUZZ_JOBS    ?= 2
+FUZZ_CHECK_TIME ?= 30
+FUZZ_ENV     ?=
+FUZZ_CC      ?= clang
+FUZZ_PARMS   := $(if $(FOC_USERPARMS),$(abspath $(FOC_USERPARMS)),$(abspath userparms.h.in))
+FUZZ_CFLAGS  := -g -O1 -std=c11 -Iinclude -DFOC_ALL_ESTIMATORS \
+                -DFOC_USERPARMS_FILE='"$(FUZZ_PARMS)"'
+FUZZ_CORE    := $(wildcard src/*.c)
+FUZZ_DEPS    := $(FUZZ_CORE) $(wildcard include/foc/*.h) $(FUZZ_PARMS)
+FUZZ_SEEDS_controller := tests/fuzz/corpus
+FUZZ_SEEDS_monitor    := tests/fuzz/corpus_monitor
+
+.PHONY: bench check check-sanitize check-fuzz check-static check-bench fuzz \
+        fuzz-cov static
+
+bench:
+	cmake -S . -B $(BUILD) $(CMAKE_ARGS)
+	cmake --build $(BUILD) -j $(JOBS) --target bench_frames
+	$(MAKE) --no-print-directory -f tools/bench/image.mk OUT=$(BENCH_OUT)/fw \
+	    FRAMES=$(BENCH_FRAMES) USERPARMS="$(BENCH_PARMS)"
+	$(MAKE) --no-print-directory -f tools/bench/image.mk OUT=$(BENCH_OUT)/all \
+	    FRAMES=$(BENCH_FRAMES) USERPARMS="$(BENCH_PARMS)" EXTRA_DEFS=-DFOC_ALL_ESTIMATORS
+	/usr/bin/python3 tools/bench/bench.py report --elf $(BENCH_OUT)/fw/bench.elf \
+	    --elf-all $(BENCH_OUT)/all/bench.elf --frames $(BENCH_FRAMES) \
+	    --build-dir $(BENCH_OUT)/fw --output $(BENCH_OUT)/report.txt
+
+check:
+	@fail=""; for t in check-sanitize check-fuzz check-static check-bench; do \
+	  echo "=== make $$t"; \
+	  $(MAKE) --no-print-directory $$t || fail="$$fail $$t"; \
+	done; \
+	if [ -n "$$fail" ]; then echo "make check: FAILED:$$fail"; exit 1; fi; \
+	echo "make check: all passed"
+
+check-sanitize:
+	cmake -S . -B $(SAN_BUILD) $(CMAKE_ARGS) -DFOC_SANITIZE=ON
+	cmake --build $(SAN_BUILD) -j $(JOBS)
+	UBSAN_OPTIONS=print_stacktrace=1 ctest --test-dir $(SAN_BUILD) \
+	    --output-on-failure -j $(JOBS)
+
+# libFuzzer binaries, and each harness's corpus: its seeds plus what earlier
+# runs found.
+$(FUZZ_OUT)/%/fuzzer: tests/fuzz/fuzz_%.c $(FUZZ_DEPS)
+	@mkdir -p $(@D)/corpus $(@D)/crashes
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer,address,undefined \
+	    -fno-sanitize-recover=all $< $(FUZZ_CORE) -o $@
+	cp $(FUZZ_SEEDS_$*)/* $(@D)/corpus/
+
+# The reproducers of open findings (tests/fuzz/findings) first: they fail
+# until the core is fixed, whatever the short runs happen to find.
+check-fuzz: $(FUZZ_OUT)/controller/fuzzer $(FUZZ_OUT)/monitor/fuzzer
+	@fail=""; \
+	for f in tests/fuzz/findings/*; do \
+	  [ -f "$$f" ] || continue; \
+	  echo "check-fuzz: reproducer $$f"; \
+	  $(FUZZ_OUT)/controller/fuzzer "$$f" > $(FUZZ_OUT)/controller/finding.log 2>&1 || \
+	    { grep -E 'oracle violated|runtime error' $(FUZZ_OUT)/controller/finding.log | head -1; \
+	      fail="$$fail $$f"; }; \
+	done; \
+	for h in controller monitor; do \
+	  echo "check-fuzz: $$h, $(FUZZ_CHECK_TIME) s"; \
+	  (cd $(FUZZ_OUT)/$$h && ./fuzzer -max_total_time=$(FUZZ_CHECK_TIME) \
+	      -max_len=4096 -print_final_stats=1 -artifact_prefix=crashes/ corpus) \
+	      || fail="$$fail $$h"; \
+	done; \
+	if [ -n "$$fail" ]; then echo "check-fuzz: FAILED:$$fail (reproducers in $(FUZZ_OUT)/<harness>/crashes)"; exit 1; fi
+
+fuzz: $(FUZZ_OUT)/$(FUZZ_TARGET)/fuzzer
+	cd $(FUZZ_OUT)/$(FUZZ_TARGET) && $(FUZZ_ENV) ./fuzzer -fork=$(FUZZ_JOBS) \
+	    -ignore_crashes=1 -max_total_time=$(FUZZ_TIME) -max_len=4096 \
+	    -artifact_prefix=crashes/ corpus > fuzz.log 2>&1 || true
+	@$(FUZZ_ENV) sh tests/fuzz/summary.sh $(FUZZ_OUT)/$(FUZZ_TARGET)
+
+$(FUZZ_OUT)/%/coverage: tests/fuzz/fuzz_%.c tests/fuzz/fuzz_main.c $(FUZZ_DEPS)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -fprofile-instr-generate -fcoverage-mapping \
+	    $< tests/fuzz/fuzz_main.c $(FUZZ_CORE) -o $@
+
+fuzz-cov: $(FUZZ_OUT)/controller/coverage $(FUZZ_OUT)/monitor/coverage \
+          $(FUZZ_OUT)/controller/fuzzer $(FUZZ_OUT)/monitor/fuzzer
+	for h in controller monitor; do \
+	  (cd $(FUZZ_OUT)/$$h && LLVM_PROFILE_FILE=cov.profraw ./coverage corpus > /dev/null); \
+	done
+	llvm-profdata merge -sparse $(FUZZ_OUT)/controller/cov.profraw \
+	    $(FUZZ_OUT)/monitor/cov.profraw -o $(FUZZ_OUT)/cov.profdata
+	llvm-cov report $(FUZZ_OUT)/controller/coverage -object $(FUZZ_OUT)/monitor/coverage \
+	    -instr-profile=$(FUZZ_OUT)/cov.profdata $(FUZZ_CORE) | tee $(FUZZ_OUT)/coverage.txt
+
+static check-static:
+	sh tests/quality/static.sh
+
+check-bench: bench
+	@grep -q '^replay_mismatches=0$$' $(BENCH_OUT)/report.txt

@@ -663,7 +663,7 @@ static void cmd_scope(const call_t *k)
         scope_status(k);
         return;
     }
-    for (uint8_t i = 0; i < sizeof scope_cmds / sizeof scope_cmds[0]; i++) {
+    for (unsigned i = 0; i < sizeof scope_cmds / sizeof scope_cmds[0]; i++) {
         if (same(k->arg[0], scope_cmds[i].name) != 0u) {
             if (scope_cmds[i].takes_args == 0u && k->n != 1u) {
                 reply_err(k->o, "too many arguments", NULL);
@@ -711,7 +711,7 @@ static const char *const scope_help[] = {
 
 static void cmd_help(const call_t *k)
 {
-    for (uint8_t i = 0; i < N_COMMANDS; i++) {
+    for (unsigned i = 0; i < N_COMMANDS; i++) {
         uint8_t col = 0;
         for (const char *p = commands[i].syntax; *p != '\0'; p++, col++) {
             out_char(k->o, *p);
@@ -721,7 +721,7 @@ static void cmd_help(const call_t *k)
         } while (++col < 22u);
         out_line(k->o, commands[i].what);
     }
-    for (uint8_t i = 0; i < sizeof scope_help / sizeof scope_help[0]; i++) {
+    for (unsigned i = 0; i < sizeof scope_help / sizeof scope_help[0]; i++) {
         out_line(k->o, scope_help[i]);
     }
     reply_ok(k->o);
@@ -764,7 +764,7 @@ static void execute(foc_monitor_t *m, out_t *o)
     if (n == 0u) {
         return; /* blank line: no reply */
     }
-    for (uint8_t i = 0; i < N_COMMANDS; i++) {
+    for (unsigned i = 0; i < N_COMMANDS; i++) {
         const cmd_t *cmd = &commands[i];
         if (same(words[0], cmd->name) == 0u) {
             continue;

@@ -12,14 +12,16 @@ void foc_protection_init(foc_protection_t *p)
 
 static void switch_resistor(foc_protection_t *p, q15_t vdc)
 {
+    /* on above ON, off below OFF, unchanged in between (hysteresis) */
     uint8_t on = p->resistor_on;
-    if (p->resistor_enabled == 0u) {
-        on = 0;
-    } else if (vdc >= FOC_BRAKE_RESISTOR_ON) {
+    if (vdc >= FOC_BRAKE_RESISTOR_ON) {
         on = 1;
     } else if (vdc <= FOC_BRAKE_RESISTOR_OFF) {
         on = 0;
+    } else {
+        /* hold */
     }
+    on = (uint8_t)(on & p->resistor_enabled);
     if (on != p->resistor_on) {
         p->resistor_on = on;
         foc_port_brake_resistor(on);

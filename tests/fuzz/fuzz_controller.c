@@ -280,12 +280,8 @@ static void decode_record(const uint8_t *p, record_t *r)
 static foc_ctrl_t ctrl;
 
 /* FUZZ_TRACE=1 in the environment: state changes on stderr (to check what
- * an input reaches).  FUZZ_TOLERATE_ACK_WITH_CAUSE=1: do not report an
- * acknowledge that leaves FAULT while a bus/temperature cause is present
- * (a known finding, docs/benchmarks.md), so that a long run can look for
- * other ones; never set in `make check`. */
+ * an input reaches). */
 static int trace = -1;
-static int tolerate_ack_with_cause;
 
 static void trace_state(const foc_ctrl_t *c, foc_state_t *last, unsigned period)
 {
@@ -303,7 +299,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     if (trace < 0) {
         trace = getenv("FUZZ_TRACE") != NULL;
-        tolerate_ack_with_cause = getenv("FUZZ_TOLERATE_ACK_WITH_CAUSE") != NULL;
     }
     memset(&port, 0, sizeof port);
     period_no = 0;
@@ -355,8 +350,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 check_invariants(c);
                 check_fault_change(c, before, 1, ack);
                 const uint16_t causes = causes_present(c, &c->samples);
-                const int acked_out = was_fault && ack && c->state == FOC_STATE_IDLE;
-                if (causes != 0u && !(tolerate_ack_with_cause && acked_out)) {
+                if (causes != 0u) {
                     if (c->state != FOC_STATE_FAULT) {
                         fail("bus/temperature beyond its trip level, not in FAULT", period);
                     }

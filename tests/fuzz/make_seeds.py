@@ -3,7 +3,8 @@
 hand-made command sequences that reach the interesting states, for libFuzzer
 to mutate.  Format: see fuzz_controller.c (8-byte header, 16-byte records).
 
-    tests/fuzz/make_seeds.py tests/fuzz/corpus
+    tests/fuzz/make_seeds.py tests/fuzz/corpus tests/fuzz/findings \
+        tests/fuzz/corpus_monitor
 """
 import os
 import struct
@@ -68,16 +69,48 @@ SEEDS = {
     + spinning(3000, 8000) + rec(stop=1) + spinning(2000, 2000),
     "table_fw_reverse": header(SENSORED, fw=1) + rec(start=1, speed=20000) + idle(1300)
     + spinning(2000, 20000) + rec(speed=-20000) + spinning(2000, -20000),
+    # Regressions (fuzz findings, fixed): an over-current trip in IDLE, the
+    # bus below the under-voltage level while in FAULT, then an acknowledge:
+    # FAULT must stay (the cause is present) ...
+    "regression_ack_with_cause_present": header(PLL) + rec(oc=1) + idle(2100)
+    + rec(vdc=3000, repeat=20) + rec(vdc=3000, ack=1) + rec(vdc=3000, repeat=30),
+    # ... and RUN with the speed reference ramping up, then a command of
+    # -32768 (-SPEED_BASE_RPM): the ramp's difference overflowed int32_t.
+    "regression_speed_ramp_overflow": header(SENSORED) + rec(start=1, speed=3000)
+    + idle(1500) + rec(speed=-32768) + idle(30),
 }
 
 
+# The monitor harness (fuzz_monitor.c): command text.
+MONITOR_SEEDS = {
+    "help_status": b"help\r\nstatus\r\nvars\r\ntiming\r\ntiming reset\r\ndac\r\n",
+    "run": b"speed 1500\nstart\n" + b"\n" * 40 + b"status\nspeed -750.5\nstop\nack\n",
+    "scope": b"scope ch id iq vdc speed\nscope decim 2\nscope trig iq rising 0.1\n"
+    b"scope pre 20\nscope arm\nstart\n" + b"\n" * 20 + b"scope\nscope dump\nscope stop\n",
+    "scope_immediate": b"scope ch theta\nscope trig immediate\nscope arm\n" + b"\n" * 10
+    + b"scope dump\n",
+    "errors": b"foo\nspeed\nspeed 12x\nspeed 99999\nscope decim 0\n"
+    b"a b c d e f g h\n" + b"x" * 70 + b"\n\x01\x7fhelp\b\n  \t \n",
+    "dac": b"dac iq id\ndac theta speed\ndac nope id\n",
+}
+
+# Reproducers of open findings: kept out of the corpus so that `make test`
+# stays green until they are fixed (`make check` runs them and fails), then
+# moved into SEEDS as regression inputs.  None open.
+FINDINGS = {}
+
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else "tests/fuzz/corpus"
-    os.makedirs(out, exist_ok=True)
-    for name, data in SEEDS.items():
-        with open(os.path.join(out, name), "wb") as f:
-            f.write(data)
-    print("%d seeds -> %s" % (len(SEEDS), out))
+    findings = sys.argv[2] if len(sys.argv) > 2 else "tests/fuzz/findings"
+    monitor = sys.argv[3] if len(sys.argv) > 3 else "tests/fuzz/corpus_monitor"
+    for d, items in ((out, SEEDS), (findings, FINDINGS), (monitor, MONITOR_SEEDS)):
+        if not items:
+            continue
+        os.makedirs(d, exist_ok=True)
+        for name, data in items.items():
+            with open(os.path.join(d, name), "wb") as f:
+                f.write(data)
+        print("%d inputs -> %s" % (len(items), d))
 
 
 if __name__ == "__main__":

@@ -41,7 +41,6 @@ of the measured function; the report adds them as a note.
 
 import argparse
 import glob
-import math
 import os
 import re
 import struct
@@ -214,8 +213,8 @@ def read_result(mu, img):
                 hash=h, skipped=skipped, first_actual=raw[24:24 + OUT_BYTES])
 
 
-def run_plain(img, frames):
-    mu = new_cpu(img, frames.data)
+def run_plain(img, frames, mask=0xFFFFFFFF):
+    mu = new_cpu(img, frames.data, mask)
     done = img.func_addr["bench_done"]
     try:
         mu.emu_start(img.vectors[1] | 1, done)
@@ -245,7 +244,7 @@ STORES = {"str", "strh", "strb", "strt", "strht", "strbt", "strex", "strexb", "s
 
 class Insn:
     __slots__ = ("addr", "size", "fall", "kind", "base", "addr_regs", "dest", "cond",
-                 "branch", "call", "writes_sp", "fn", "text", "div_regs", "signed", "sp_step")
+                 "branch", "call", "writes_sp", "fn", "div_regs", "signed", "sp_step")
 
 
 def bits(regs):
@@ -273,7 +272,6 @@ def classify(ins, fn_index):
     i.addr, i.size = ins.address, ins.size
     i.fall = ins.address + ins.size
     i.fn = fn_index
-    i.text = "%s %s" % (ins.mnemonic, ins.op_str)
     m = ins.mnemonic.split(".")[0]
     cc = ins.cc
     regs_read, regs_write = ins.regs_access()
@@ -430,13 +428,14 @@ def run_profiled(img, frames, target_frames, mask=0xFFFFFFFF):
     incl, selfc, ncalls = [0] * nf, [0] * nf, [0] * nf
     fast_calls, slow_calls = [], []   # (cycles, insns, refills, stack, divides)
     blocks = {}
-    # which frame each fast-step call belongs to: frames of the scenarios
-    # the image runs, in order (known after the run; the target test needs
-    # it during the run, so it assumes the mask and checks it afterwards)
+    # which frame each fast-step call belongs to: a first, untimed run
+    # tells which scenarios the image can run (its estimators), the timed
+    # run is limited to those
+    mask &= ~run_plain(img, frames, mask)["skipped"] & 0xFFFFFFFF
     order = [i for i in range(frames.count) if mask >> frames.scenario_of[i] & 1]
     target_calls = set(k for k, i in enumerate(order) if i in target_frames)
     mu = new_cpu(img, frames.data, mask)
-    psr_reg, sp_reg, lr_reg = UA.UC_ARM_REG_XPSR, UA.UC_ARM_REG_SP, UA.UC_ARM_REG_LR
+    sp_reg, lr_reg = UA.UC_ARM_REG_SP, UA.UC_ARM_REG_LR
     # mutable state in a list for speed: see the names below
     ACTIVE, CYC, INS, REF, DIVS, PREV, SP0, SPMIN, NFAST, TARGET = range(10)
     st = [None, 0, 0, 0, 0, None, 0, 0, 0, False]
@@ -529,11 +528,8 @@ def run_profiled(img, frames, target_frames, mask=0xFFFFFFFF):
     prof = dict(incl=incl, self=selfc, calls=ncalls)
     res = read_result(mu, img)
     ran = [i for i in range(frames.count) if not res["skipped"] >> frames.scenario_of[i] & 1]
-    if len(ran) != len(fast_calls):
-        raise SystemExit("bench.py: %d fast-step calls for %d frames" % (len(fast_calls), len(ran)))
-    if ran != order[:len(ran)] or len(ran) != len(order):
-        if target_frames & set(ran) != target_frames & set(order):
-            raise SystemExit("bench.py: the image skipped target frames (estimator not built?)")
+    if ran != order or len(ran) != len(fast_calls):
+        raise SystemExit("bench.py: %d fast-step calls for %d frames" % (len(fast_calls), len(order)))
     fast_of = [None] * frames.count
     slow_of = [None] * frames.count
     k = 0
@@ -552,28 +548,26 @@ def run_profiled(img, frames, target_frames, mask=0xFFFFFFFF):
 def map_sizes(map_path, img):
     """Flash and RAM of the core as linked: input sections from
     libfoc_core.a members, plus the C library / libgcc members the image
-    pulls in (the harness calls none), plus the controller instance."""
+    pulls in (the harness calls none), plus the controller instance.
+    Flash = code + read-only data + initial values of .data."""
     out_sec = None
-    pending = None
     acc = {}
     with open(map_path) as f:
         lines = f.read().split("\n")
     start = next(i for i, l in enumerate(lines) if l.startswith("Linker script and memory map"))
-    rx = re.compile(r"^ (\.\S+|COMMON)?\s+0x([0-9a-f]+)\s+0x([0-9a-f]+)\s+(\S.*)$")
+    # an input section: " .name  0xADDR  0xSIZE file", or the name alone on
+    # its line and "  0xADDR  0xSIZE file" on the next
+    rx = re.compile(r"^ (?:\.\S+|COMMON)?\s+0x([0-9a-f]+)\s+0x([0-9a-f]+)\s+(\S.*)$")
     for l in lines[start:]:
         m = re.match(r"^(\.\S+)", l)
         if m:
             out_sec = m.group(1)
             continue
-        m = re.match(r"^ (\.\S+|COMMON)\s*$", l)
-        if m:
-            pending = m.group(1)
-            continue
         m = rx.match(l)
         if m and out_sec is not None:
-            size = int(m.group(3), 16)
-            fname = m.group(4).strip()
-            if size == 0 or fname.startswith("*"):
+            size = int(m.group(2), 16)
+            fname = m.group(3).strip()
+            if size == 0:
                 continue
             if "libfoc_core.a(" in fname:
                 who = "core"
@@ -581,21 +575,23 @@ def map_sizes(map_path, img):
                 who = "runtime"
             else:
                 who = "harness"
-            key = (who, out_sec)
-            acc[key] = acc.get(key, 0) + size
-        pending = None
+            if out_sec in (".bss",):
+                kind = "bss"
+            elif out_sec == ".data":
+                kind = "data"
+            elif out_sec in (".text", ".rodata", ".harness", ".vectors", ".ARM.exidx"):
+                kind = "text"
+            else:
+                continue  # .frames, debug sections
+            acc[(who, kind)] = acc.get((who, kind), 0) + size
 
-    def get(who, sec):
-        return acc.get((who, sec), 0)
     res = {}
     for who in ("core", "runtime", "harness"):
-        res[who] = dict(text=get(who, ".text"), data=get(who, ".data"), bss=get(who, ".bss"))
+        res[who] = dict((k, acc.get((who, k), 0)) for k in ("text", "data", "bss"))
     ctrl = img.objects.get("bench_ctrl", (0, 0))[1]
     res["ctrl"] = ctrl
-    core_flash = sum(res[w]["text"] + res[w]["data"] for w in ("core", "runtime"))
-    core_ram = sum(res[w]["data"] + res[w]["bss"] for w in ("core", "runtime")) + ctrl
-    res["flash"] = core_flash
-    res["ram"] = core_ram
+    res["flash"] = sum(res[w]["text"] + res[w]["data"] for w in ("core", "runtime"))
+    res["ram"] = sum(res[w]["data"] + res[w]["bss"] for w in ("core", "runtime")) + ctrl
     return res
 
 
@@ -716,6 +712,8 @@ def cmd_report(a):
                  if frames.state_before[i] in LOOP_STATES)
     result, fast_of, slow_of, prof = run_profiled(img, frames, target)
     ran_fw = [n for n in range(len(frames.scenarios)) if not result["skipped"] >> n & 1]
+    if result["frames"] != sum(frames.scenarios[n]["count"] for n in ran_fw):
+        raise SystemExit("bench.py: the image ran %d frames" % result["frames"])
     if target_sc not in ran_fw:
         raise SystemExit("bench.py: the image does not contain the target's estimator (%s):"
                          " set FOC_ESTIMATOR to FOC_EST_PLL" % EST_NAMES[tinfo["estimator"]])
@@ -731,7 +729,7 @@ def cmd_report(a):
     w = out.append
     w("Cortex-M3 benchmark of the FOC core (instruction-set simulator: Unicorn %s,"
       " cycle model: tools/bench/bench.py)" % __import__("unicorn").__version__)
-    w("firmware image %s (the core as firmware builds it: estimator %s only, plus the sensor)"
+    w("firmware image %s (the core as firmware builds it; estimators built in: %s)"
       % (a.elf, ", ".join(sorted(set(EST_NAMES[frames.scenarios[n]["estimator"]] for n in ran_fw)))))
     w("frames %s: %d PWM periods at %d Hz, slow step every %d periods"
       % (a.frames, frames.count, frames.pwm_hz, frames.slow_divider))

@@ -63,9 +63,7 @@ static const spec_t specs[] = {
     /* The benchmark's target configuration: first. */
     { "pll_fw_3shunt", "pll_fw.scn", "pll", "voltage", 3, 0,
       EXPECT_RUN | EXPECT_FW | EXPECT_STARTUP | EXPECT_IDLE_END },
-    /* Three shunts: Luenberger loses the angle at the hand-over (reported;
-     * see docs/benchmarks.md), so it is recorded with two. */
-    { "luenberger_2shunt", "run.scn", "luenberger", NULL, 2, 0,
+    { "luenberger_3shunt", "run.scn", "luenberger", NULL, 3, 0,
       EXPECT_RUN | EXPECT_STARTUP | EXPECT_IDLE_END },
     { "flux_3shunt", "run.scn", "flux", NULL, 3, 0,
       EXPECT_RUN | EXPECT_STARTUP | EXPECT_IDLE_END },
