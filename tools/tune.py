@@ -1044,10 +1044,6 @@ def report(motor, board, e, d, info, f):
         print("  %-27s %s" % (k, v), file=f)
     for w in info["estimated"]:
         print("  note: estimated, not in the motor file: %s" % w, file=f)
-    lsb_ramp = e["SPEED_BASE_RPM"] / 32768.0 / d["t_slow"]
-    if e["TUNING_RAMP_RPM_PER_S"] < lsb_ramp:
-        print("  note: TUNING ramp %.4g rpm/s is below one speed LSB per slow tick: the "
-              "firmware ramps at %.4g rpm/s" % (e["TUNING_RAMP_RPM_PER_S"], lsb_ramp), file=f)
     if e["CURRENT_LIMIT_A"] < i:
         print("  note: the current limit is below the rated current: less than the rated "
               "torque", file=f)

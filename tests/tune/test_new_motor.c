@@ -214,7 +214,7 @@ static void case_tuning_field_weakening(void)
     const double final = mean_speed(&r, t_end - 0.3, t_end);
     const double id = r.rows[r.n - 1].id_ref_a;
     printf("tuning: reference slope %.1f rpm/s (%.1f expected: TUNING_RAMP_RPM_PER_S %.1f in "
-           "whole LSBs per tick), %.1f rpm at the end (maximum %.0f), id reference %.2f A, "
+           "Q15.15 steps), %.1f rpm at the end (maximum %.0f), id reference %.2f A, "
            "final %s %s, peak %.2f A\n",
            slope, slope_fw, TUNING_RAMP_RPM_PER_S, final, top, id,
            foc_state_name(r.final_state), foc_fault_name(r.fault),
