@@ -35,8 +35,9 @@
 #ifdef _Static_assert
 #undef _Static_assert
 #endif
-#if defined(__GNUC__) && !defined(__clang__) && (__GNUC__ * 100 + __GNUC_MINOR__) < 406
-/* XC16 (GCC 4.5) predates the keyword: a negative array size stops the
+#if defined(__GNUC__) && (__GNUC__ * 100 + __GNUC_MINOR__) < 406
+/* XC16 (GCC 4.5) predates the keyword, and clang (which reports GCC 4.2)
+ * rejects floating-point expressions in it: a negative array size stops the
  * build; the message is then in the line the compiler points at. */
 #define FOC_STATIC_ASSERT_CAT2(a, b) a##b
 #define FOC_STATIC_ASSERT_CAT(a, b) FOC_STATIC_ASSERT_CAT2(a, b)
