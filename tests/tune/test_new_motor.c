@@ -33,50 +33,14 @@
 
 #define LIMIT_A (1.05 * CURRENT_LIMIT_A)
 
-/* run_scenario_with() plus the two tuning aids. */
+/* run_scenario_with() with the two tuning aids set. */
 static void run_with_aids(const char *text, const sim_options_t *opt, int open_loop,
                           int tuning, run_t *out)
 {
-    scn_t scn;
-    char err[256];
-    if (scn_parse_text(text, "test", &scn, err, sizeof err) != 0) {
-        fprintf(stderr, "scenario error: %s\n", err);
-        exit(2);
-    }
-    static sim_t sim;
-    if (sim_init(&sim, opt, &scn, err, sizeof err) != 0) {
-        fprintf(stderr, "sim error: %s\n", err);
-        exit(2);
-    }
-    sim.ctrl.opt.open_loop_only = (uint8_t)open_loop;
-    sim.ctrl.opt.tuning = (uint8_t)tuning;
-    size_t cap = 4096;
-    out->rows = malloc(cap * sizeof *out->rows);
-    out->n = 0;
-    sim_row_t row;
-    while (out->rows != NULL && sim_step(&sim, &row)) {
-        if (out->n == cap) {
-            cap *= 2;
-            sim_row_t *grown = realloc(out->rows, cap * sizeof *grown);
-            if (grown == NULL) {
-                free(out->rows);
-                out->rows = NULL;
-                break;
-            }
-            out->rows = grown;
-        }
-        out->rows[out->n++] = row;
-    }
-    if (out->rows == NULL) {
-        fprintf(stderr, "out of memory\n");
-        exit(2);
-    }
-    out->closed_loop_time_s = sim.closed_loop_time_s;
-    out->peak_current_a = sim.peak_current_a;
-    out->final_state = sim.ctrl.state;
-    out->fault = sim.ctrl.faults.first;
-    out->on_estimator = sim.ctrl.est.use_sensor == 0u;
-    scn_free(&scn);
+    sim_options_t o = *opt;
+    o.open_loop_only = open_loop;
+    o.tuning = tuning;
+    run_scenario_with(text, &o, out);
 }
 
 /* Mean true speed over [t0, t1). */

@@ -69,6 +69,8 @@ void sim_default_options(sim_options_t *o)
     o->sensored_start = 0;
     o->ideal_inverter = 0;
     o->fault_brake = -1;
+    o->open_loop_only = -1;
+    o->tuning = -1;
 }
 
 /* The plant as userparms.h describes it. */
@@ -116,6 +118,12 @@ int sim_init(sim_t *s, const sim_options_t *o, const scn_t *scn, char *err,
     s->ctrl.opt.sensored_start = (uint8_t)(o->sensored_start != 0);
     if (o->fault_brake >= 0) {
         s->ctrl.opt.fault_brake = (uint8_t)(o->fault_brake != 0);
+    }
+    if (o->open_loop_only >= 0) {
+        s->ctrl.opt.open_loop_only = (uint8_t)(o->open_loop_only != 0);
+    }
+    if (o->tuning >= 0) {
+        s->ctrl.opt.tuning = (uint8_t)(o->tuning != 0);
     }
     if (o->ideal_inverter != 0) {
         s->model.p.deadtime_s = 0.0;

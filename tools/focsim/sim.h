@@ -35,6 +35,8 @@ typedef struct {
     int ideal_inverter;     /* 1: plant without dead time and the */
                             /* controller without compensation */
     int fault_brake;        /* 0/1, or -1 for userparms.h's FAULT_BRAKE */
+    int open_loop_only;     /* 0/1, or -1: OPEN_LOOP_FUNCTIONING */
+    int tuning;             /* 0/1, or -1: TUNING */
 } sim_options_t;
 
 /* userparms.h's choices, seed 1, no sensored start. */
