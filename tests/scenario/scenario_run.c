@@ -131,3 +131,14 @@ double run_max_phase_current(const run_t *r, double t0, double t1)
     }
     return m;
 }
+
+double run_mean_speed(const run_t *r, double t0, double t1)
+{
+    double sum = 0.0;
+    size_t n = 0;
+    for (size_t k = run_index_at(r, t0); k < r->n && r->rows[k].t_s < t1; k++) {
+        sum += r->rows[k].speed_rpm;
+        n++;
+    }
+    return n ? sum / (double)n : 0.0;
+}

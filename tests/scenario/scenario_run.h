@@ -43,6 +43,9 @@ double run_extreme_speed(const run_t *r, double t0, double t1, int below);
 double run_first_state(const run_t *r, double t0, const char *state);
 double run_first_fault(const run_t *r, double t0, const char *fault);
 
+/* Mean true speed over [t0, t1), rpm (0 if no row). */
+double run_mean_speed(const run_t *r, double t0, double t1);
+
 /* Largest true |phase current| in [t0, t1). */
 double run_max_phase_current(const run_t *r, double t0, double t1);
 

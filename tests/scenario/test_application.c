@@ -19,18 +19,6 @@ static void run_default(const char *text, run_t *r)
     run_scenario(text, FOC_ESTIMATOR, r);
 }
 
-/* Mean true speed over [t0, t1). */
-static double mean_speed(const run_t *r, double t0, double t1)
-{
-    double sum = 0.0;
-    size_t n = 0;
-    for (size_t k = run_index_at(r, t0); k < r->n && r->rows[k].t_s < t1; k++) {
-        sum += r->rows[k].speed_rpm;
-        n++;
-    }
-    return n ? sum / (double)n : 0.0;
-}
-
 /* 12 rotor angles x loads {0, 0.02, 0.05} Nm x inertia {1, 5} x default:
  * every start reaches RUN and then the commanded 1000 rpm. */
 static void case_startup_matrix(void)
@@ -50,7 +38,7 @@ static void case_startup_matrix(void)
                 run_t r;
                 run_default(text, &r);
                 const double t_run = run_first_state(&r, 0.0, "RUN");
-                const double speed = mean_speed(&r, 1.4, 1.6);
+                const double speed = run_mean_speed(&r, 1.4, 1.6);
                 const int good = t_run >= 0.0 && r.final_state == FOC_STATE_RUN && r.fault == 0 &&
                                  fabs(speed - 1000.0) <= 20.0;
                 total++;
@@ -104,8 +92,8 @@ static void case_field_weakening_4000rpm(void)
 {
     run_t r;
     run_default("0 start\n0 speed 4000\n1.2 load 0.015\n2.0 end\n", &r);
-    const double no_load = mean_speed(&r, 1.0, 1.2);
-    const double loaded = mean_speed(&r, 1.8, 2.0);
+    const double no_load = run_mean_speed(&r, 1.0, 1.2);
+    const double loaded = run_mean_speed(&r, 1.8, 2.0);
     const double peak = run_max_phase_current(&r, 0.0, 2.0);
     printf("field weakening: %.1f rpm no load, %.1f rpm with 0.015 Nm, peak %.3f A, id %.3f A\n",
            no_load, loaded, peak, r.rows[r.n - 1].id_a);
@@ -146,7 +134,7 @@ static void case_no_false_trip(void)
                                  { 5.4, 3000 }, { 6.4, 500 }, { 7.4, 1000 }, { 8.6, -1000 },
                                  { 9.9, 3000 } };
     for (size_t i = 0; i < sizeof checks / sizeof checks[0]; i++) {
-        const double v = mean_speed(&r, checks[i][0] - 0.05, checks[i][0]);
+        const double v = run_mean_speed(&r, checks[i][0] - 0.05, checks[i][0]);
         TK_CHECK(fabs(v - checks[i][1]) <= 0.02 * fabs(checks[i][1]), "at %.2f s: %.1f rpm",
                  checks[i][0], v);
     }
@@ -190,7 +178,7 @@ static void check_fault(const char *name, const char *inject, const char *clear,
     const char *at_099 = r.rows[run_index_at(&r, 0.99)].state;
     const char *at_139 = r.rows[run_index_at(&r, 1.39)].state;
     const double t_restart = run_first_state(&r, 1.5, "RUN");
-    const double speed = mean_speed(&r, 2.3, 2.4);
+    const double speed = run_mean_speed(&r, 2.3, 2.4);
     printf("%-14s trip %.2f ms after the cause, outputs off %.2f ms after; latched after an "
            "early ack: %s; after the cause: %s; restarted: RUN at %.3f s, %.1f rpm\n",
            name, (t_trip - 0.6) * 1e3, (t_off - t_trip) * 1e3, at_099, at_139, t_restart, speed);

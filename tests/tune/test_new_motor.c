@@ -43,18 +43,6 @@ static void run_with_aids(const char *text, const sim_options_t *opt, int open_l
     run_scenario_with(text, &o, out);
 }
 
-/* Mean true speed over [t0, t1). */
-static double mean_speed(const run_t *r, double t0, double t1)
-{
-    double sum = 0.0;
-    size_t n = 0;
-    for (size_t k = run_index_at(r, t0); k < r->n && r->rows[k].t_s < t1; k++) {
-        sum += r->rows[k].speed_rpm;
-        n++;
-    }
-    return n ? sum / (double)n : 0.0;
-}
-
 /* RMS of the estimated - true electrical angle over [t0, t1), degrees. */
 static double angle_rms(const run_t *r, double t0, double t1)
 {
@@ -88,8 +76,8 @@ static void case_open_loop_functioning(void)
     sim_default_options(&opt);
     run_t r;
     run_with_aids("0 start\n0 speed 3000\n1.2 load 0.05\n1.6 end\n", &opt, 1, 0, &r);
-    const double speed = mean_speed(&r, 1.0, 1.2);
-    const double loaded = mean_speed(&r, 1.4, 1.6);
+    const double speed = run_mean_speed(&r, 1.0, 1.2);
+    const double loaded = run_mean_speed(&r, 1.4, 1.6);
     const double err = angle_rms(&r, 1.0, 1.6);
     const double est = r.rows[r.n - 1].speed_est_rpm;
     printf("open loop: %.1f rpm (%.1f rpm with 0.05 Nm), estimated %.1f rpm, estimated - true "
@@ -139,7 +127,7 @@ static void case_closed_loop(void)
         TK_CHECK(state_throughout(&r, t_run, 4.6, "RUN"), "angle %d: left RUN", a);
         TK_CHECK(run_max_phase_current(&r, 0.0, 4.6) <= LIMIT_A, "angle %d: peak current", a);
         for (size_t i = 0; i < sizeof at / sizeof at[0]; i++) {
-            const double v = mean_speed(&r, at[i].t - 0.1, at[i].t);
+            const double v = run_mean_speed(&r, at[i].t - 0.1, at[i].t);
             const double e = 100.0 * (v - at[i].rpm) / at[i].rpm;
             printf("    %-38s %8.1f rpm  (%+.3f %%)\n", at[i].what, v, e);
             TK_CHECK(fabs(e) <= 1.0, "angle %d, %s: %.1f rpm", a, at[i].what, v);
@@ -175,7 +163,7 @@ static void case_tuning_field_weakening(void)
     const double t0 = 0.5 * t_end - 2.0, t1 = 0.5 * t_end + 2.0;
     const double slope = (r.rows[run_index_at(&r, t1)].speed_ref_rpm -
                           r.rows[run_index_at(&r, t0)].speed_ref_rpm) / (t1 - t0);
-    const double final = mean_speed(&r, t_end - 0.3, t_end);
+    const double final = run_mean_speed(&r, t_end - 0.3, t_end);
     const double id = r.rows[r.n - 1].id_ref_a;
     printf("tuning: reference slope %.1f rpm/s (%.1f expected: TUNING_RAMP_RPM_PER_S %.1f in "
            "Q15.15 steps), %.1f rpm at the end (maximum %.0f), id reference %.2f A, "
