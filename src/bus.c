@@ -35,17 +35,3 @@ void foc_bus_update(foc_bus_t *bus, q15_t vdc)
     (void)foc_lpf_step(&bus->vdc, vdc);
     derive_limits(bus);
 }
-
-/* v x comp / 2^14, rounded and saturated; |v x comp| < 2^30. */
-static q15_t scale_q14(q15_t v, int16_t comp_q14)
-{
-    return foc_sat_q15(((int32_t)v * comp_q14 + (int32_t)8192) >> 14);
-}
-
-foc_ab_t foc_bus_compensate(const foc_bus_t *bus, foc_ab_t v)
-{
-    foc_ab_t out;
-    out.alpha = scale_q14(v.alpha, bus->comp_q14);
-    out.beta = scale_q14(v.beta, bus->comp_q14);
-    return out;
-}

@@ -4,7 +4,6 @@
 #include "foc/scope.h"
 #include "foc/sqrt.h"
 #include "foc/svm.h"
-#include "foc/trig.h"
 
 /* Angle advance for the inverse Park: the voltage computed now is applied
  * during the next period, whose middle is 1.5 periods ahead. */
@@ -109,6 +108,7 @@ void foc_init(foc_ctrl_t *c)
     c->est.kind = FOC_ESTIMATOR;
     c->samples.theta_sensor = 0;
     c->scope = NULL;
+    c->forced_iq_max = FOC_CURRENT_LIMIT;
     c->direction = 1;
     reset_run_state(c);
     outputs_off(c);
@@ -154,8 +154,8 @@ static void current_loop(foc_ctrl_t *c, uint16_t theta, q15_t speed, uint8_t for
     if (forced != 0u) {
         /* the q swing current may use what the d current leaves */
         c->v_dq = foc_cc_step_vq(&c->current_ctrl, c->i_ref.d, c->i_dq.d,
-                                 forced_vq(speed, c->i_ref.d), c->i_dq.q,
-                                 foc_sc_iq_limit(c->i_ref.d), c->bus.v_max);
+                                 forced_vq(speed, c->i_ref.d), c->i_dq.q, c->forced_iq_max,
+                                 c->bus.v_max);
     } else {
         c->v_dq = foc_cc_step(&c->current_ctrl, c->i_ref, c->i_dq, c->bus.v_max);
     }
@@ -227,6 +227,7 @@ static void begin_start(foc_ctrl_t *c)
     foc_startup_begin(&c->startup, c->direction);
     reset_run_state(c);
     c->i_ref = zero_dq;
+    c->forced_iq_max = FOC_CURRENT_LIMIT;
     c->v_ab = zero_ab;
     c->v_ab_prev = zero_ab;
     c->duty = half_duty;
@@ -309,6 +310,7 @@ static void startup_tick(foc_ctrl_t *c)
     }
     c->i_ref.d = c->startup.current;
     c->i_ref.q = 0;
+    c->forced_iq_max = foc_sc_iq_limit(c->i_ref.d);
 }
 
 /* ---------------------------------------------------------- speed loop -- */

@@ -3,26 +3,42 @@
  */
 #include "foc/sqrt.h"
 
+/* Number of significant bits of x > 0, 1..32. */
+static unsigned bit_length(uint32_t x)
+{
+#if defined(__GNUC__) && (UINT32_MAX == 0xFFFFFFFFuL) && (__SIZEOF_INT__ == 4)
+    return 32u - (unsigned)__builtin_clz(x);   /* CLZ on Cortex-M3 */
+#elif defined(__GNUC__) && (__SIZEOF_LONG__ == 4)
+    return 32u - (unsigned)__builtin_clzl(x);  /* 16-bit int, 32-bit long */
+#else
+    unsigned n = 0u;
+    while (x != 0u) {
+        x >>= 1;
+        n++;
+    }
+    return n;
+#endif
+}
+
 uint16_t foc_isqrt32(uint32_t x)
 {
-    /* Restoring bit-by-bit method, one result bit per iteration from the
-     * top: `bit` is the square of the trial bit (4^15 down to 4^0); `root`
-     * holds the result found so far, scaled by the trial bit; `rem` is x
-     * minus the square of the result so far. */
-    uint32_t rem = x;
-    uint32_t root = 0u;
-    uint32_t bit = 1uL << 30;
-
-    while (bit != 0u) {
-        if (rem >= root + bit) {
-            rem -= root + bit;
-            root = (root >> 1) + bit;
-        } else {
-            root >>= 1;
-        }
-        bit >>= 2;
+    if (x == 0u) {
+        return 0u;
     }
-    return (uint16_t)root; /* floor(sqrt(x)) <= 65535 */
+    /* a = 2^h >= sqrt(x) with h = ceil(bits / 2); its Newton step
+     * (a + x / a) / 2 costs only a shift and is still >= floor(sqrt(x))
+     * (arithmetic-geometric mean), within 25 % of it. */
+    const unsigned h = (bit_length(x) + 1u) >> 1; /* 1..16 */
+    uint32_t y = (((uint32_t)1 << h) + (x >> h)) >> 1;
+    /* From above, integer Newton decreases strictly until it reaches
+     * floor(sqrt(x)), where the next step would not decrease. */
+    for (;;) {
+        const uint32_t next = (y + x / y) >> 1;
+        if (next >= y) {
+            return (uint16_t)y;
+        }
+        y = next;
+    }
 }
 
 q15_t foc_mag_q15(q15_t x, q15_t y)

@@ -1,6 +1,8 @@
 /*
  * Sine, cosine and atan2 on 16-bit angles (65536 counts = one turn).
  * Both use a table with linear interpolation; see foc/trig.h for accuracy.
+ * Sine and cosine are inline in foc/trig.h (the fast step calls them every
+ * period); their table is here.
  */
 #include "foc/trig.h"
 
@@ -9,14 +11,14 @@
 
 /*
  * sin over one quarter wave, 128 steps of 128 counts (512 points per turn):
- * SIN_TABLE[i] = min(32767, round(32768 * sin(2 * pi * i / 512))), i = 0..128,
+ * foc_sin_table[i] = min(32767, round(32768 sin(2 pi i / 512))), i = 0..128,
  * computed with
  *   python3 -c "import math; print([min(32767, round(32768 *
  *               math.sin(2 * math.pi * i / 512))) for i in range(129)])"
  * The last entry repeats point 128 so that index 128 can be read with a zero
  * fraction without a special case.  Q15.
  */
-static const int16_t SIN_TABLE[130] = {
+const int16_t foc_sin_table[130] = {
         0,   402,   804,  1206,  1608,  2009,  2411,  2811,
      3212,  3612,  4011,  4410,  4808,  5205,  5602,  5998,
      6393,  6787,  7180,  7571,  7962,  8351,  8740,  9127,
@@ -36,6 +38,7 @@ static const int16_t SIN_TABLE[130] = {
     32767, 32767
 };
 
+
 /*
  * atan over one octant, 32 steps of the ratio r = min/max in [0, 1]:
  * ATAN_TABLE[i] = round(atan(i / 32) * 32768 / pi) angle counts, i = 0..32,
@@ -51,56 +54,6 @@ static const uint16_t ATAN_TABLE[34] = {
     6712, 6917, 7117, 7310, 7498, 7679, 7856, 8026,
     8192, 8192
 };
-
-/* sin(x) for x in [0, QUARTER_TURN] counts, Q15 in [0, 32767]. */
-static q15_t quarter_sin(uint16_t x)
-{
-    const uint16_t i = (uint16_t)(x >> 7);           /* table step, 0..128 */
-    const int32_t frac = (int32_t)(x & 127u);        /* 0..127, 7 bits */
-    const int32_t y0 = SIN_TABLE[i];                 /* Q15 */
-    const int32_t dy = (int32_t)SIN_TABLE[i + 1u] - y0; /* Q15, 0..402 */
-    return (q15_t)(y0 + ((dy * frac + 64) >> 7));    /* rounded, <= 32767 */
-}
-
-foc_sincos_t foc_sincos_q15(uint16_t angle)
-{
-    /* Fold into the quadrant: with p the position inside it, sin and cos of
-     * the angle are +-sin(p) and +-cos(p) = +-sin(90 deg - p), swapped in the
-     * odd quadrants. */
-    const uint16_t p = (uint16_t)(angle & (QUARTER_TURN - 1u));
-    const q15_t s = quarter_sin(p);
-    const q15_t c = quarter_sin((uint16_t)(QUARTER_TURN - p));
-    foc_sincos_t r;
-    switch (angle >> 14) {
-    case 0:
-        r.sin = s;
-        r.cos = c;
-        break;
-    case 1:
-        r.sin = c;
-        r.cos = (q15_t)-s;
-        break;
-    case 2:
-        r.sin = (q15_t)-s;
-        r.cos = (q15_t)-c;
-        break;
-    default:
-        r.sin = (q15_t)-c;
-        r.cos = s;
-        break;
-    }
-    return r;
-}
-
-q15_t foc_sin_q15(uint16_t angle)
-{
-    return foc_sincos_q15(angle).sin;
-}
-
-q15_t foc_cos_q15(uint16_t angle)
-{
-    return foc_sincos_q15(angle).cos;
-}
 
 /* atan(num / den) in angle counts, [0, 8192], for 0 <= num <= den, den > 0. */
 static uint16_t octant_atan(uint32_t num, uint32_t den)

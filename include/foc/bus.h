@@ -30,7 +30,14 @@ void foc_bus_init(foc_bus_t *bus, q15_t vdc);
 /* Slow tick: filters one bus sample, updates v_max and comp_q14. */
 void foc_bus_update(foc_bus_t *bus, q15_t vdc);
 
-/* Scales a voltage command (Q15 of the voltage base) to the SVM input. */
-foc_ab_t foc_bus_compensate(const foc_bus_t *bus, foc_ab_t v);
+/* Scales a voltage command (Q15 of the voltage base) to the SVM input:
+ * v x comp / 2^14, rounded and saturated; |v x comp| < 2^30. */
+static inline foc_ab_t foc_bus_compensate(const foc_bus_t *bus, foc_ab_t v)
+{
+    foc_ab_t out;
+    out.alpha = foc_sat_q15(((int32_t)v.alpha * bus->comp_q14 + (int32_t)8192) >> 14);
+    out.beta = foc_sat_q15(((int32_t)v.beta * bus->comp_q14 + (int32_t)8192) >> 14);
+    return out;
+}
 
 #endif /* FOC_BUS_H */

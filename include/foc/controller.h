@@ -121,6 +121,8 @@ typedef struct {
     uint8_t converged_ticks; /* consecutive start-up convergence tests */
     uint8_t shorting;       /* BRAKE: windings shorted */
     q15_t handover_id;      /* forced d current fading out after hand-over */
+    q15_t forced_iq_max;    /* start-up: the q current the forced d current */
+                            /* leaves inside the limit (slow step) */
     uint16_t start_ticks;   /* slow ticks since `start` (start-up timeout) */
     uint16_t unreliable_ticks; /* stall detection counters */
     uint16_t emf_low_ticks;

@@ -11,6 +11,7 @@
 #define FOC_CURRENT_CTRL_H
 
 #include "foc/pi.h"
+#include "foc/sqrt.h"
 #include "foc/transforms.h"
 
 typedef struct {
@@ -24,19 +25,73 @@ void foc_cc_init(foc_current_ctrl_t *cc);
 /* Clears both integrators (outputs start from zero voltage). */
 void foc_cc_reset(foc_current_ctrl_t *cc);
 
-/* One PWM period: voltage command for reference and measured currents. */
-foc_dq_t foc_cc_step(foc_current_ctrl_t *cc, foc_dq_t i_ref, foc_dq_t i_meas,
-                     q15_t v_max);
+/* The q-axis limit left by vd inside the circle of radius v_max:
+ * sqrt(v_max^2 - vd^2), 0 <= |vd| <= v_max (Q15; squares Q30).  Callers
+ * take it only once a candidate vq is found outside the circle. */
+static inline q15_t foc_cc_circle_q(q15_t v_max, q15_t vd)
+{
+    const int32_t rest = (int32_t)v_max * v_max - (int32_t)vd * vd;
+    return (rest > 0) ? (q15_t)foc_isqrt32((uint32_t)rest) : 0;
+}
+
+/* 1 if (vd, vq) lies outside the circle of radius v_max (|vq| <= 32767). */
+static inline uint8_t foc_cc_outside(q15_t v_max, q15_t vd, q15_t vq)
+{
+    return (uint8_t)((int32_t)vd * vd + (int32_t)vq * vq > (int32_t)v_max * v_max);
+}
+
+/* The d axis, first: its PI limited to +-Vmax. */
+static inline q15_t foc_cc_d_axis(foc_current_ctrl_t *cc, q15_t id_ref, q15_t id_meas,
+                                  q15_t v_max)
+{
+    foc_pi_set_limits(&cc->pi_d, (q15_t)-v_max, v_max);
+    return foc_pi_step(&cc->pi_d, foc_sub_q15(id_ref, id_meas));
+}
+
+/* One PWM period: voltage command for reference and measured currents.
+ * The q PI's limit is +-Vmax while its output lies inside the circle; the
+ * root is taken only when it does not. */
+static inline foc_dq_t foc_cc_step(foc_current_ctrl_t *cc, foc_dq_t i_ref, foc_dq_t i_meas,
+                                   q15_t v_max)
+{
+    foc_dq_t v;
+    v.d = foc_cc_d_axis(cc, i_ref.d, i_meas.d, v_max);
+    const q15_t e_q = foc_sub_q15(i_ref.q, i_meas.q);
+    const int32_t u_q = foc_pi_unsat(&cc->pi_q, e_q);
+    const q15_t candidate = (u_q > v_max) ? v_max : (u_q < -v_max) ? (q15_t)-v_max : (q15_t)u_q;
+    const q15_t vq_max = foc_cc_outside(v_max, v.d, candidate) ? foc_cc_circle_q(v_max, v.d)
+                                                                : v_max;
+    foc_pi_set_limits(&cc->pi_q, (q15_t)-vq_max, vq_max);
+    v.q = foc_pi_finish(&cc->pi_q, e_q, u_q);
+    return v;
+}
 
 /* One PWM period with the q voltage given instead of regulated: Vd from
  * the d PI, Vq = `vq` limited to the circle.  In the forced frame of the
  * start-up this lets the back-EMF of a rotor swinging about the forced
  * angle drive currents through Rs: electrical damping, which a q current
  * loop would cancel.  Only while |Iq| <= iq_max: beyond, the proportional
- * gain pulls it back.  The q integrator follows Vq, so switching back to
+ * gain pulls it back (a low-resistance winding would otherwise carry a
+ * large swing current).  The q integrator follows Vq, so switching back to
  * foc_cc_step() is bumpless. */
-foc_dq_t foc_cc_step_vq(foc_current_ctrl_t *cc, q15_t id_ref, q15_t id_meas, q15_t vq,
-                        q15_t iq_meas, q15_t iq_max, q15_t v_max);
+static inline foc_dq_t foc_cc_step_vq(foc_current_ctrl_t *cc, q15_t id_ref, q15_t id_meas,
+                                      q15_t vq, q15_t iq_meas, q15_t iq_max, q15_t v_max)
+{
+    foc_dq_t v;
+    v.d = foc_cc_d_axis(cc, id_ref, id_meas, v_max);
+    const q15_t iq_free = (iq_meas > iq_max)    ? iq_max
+                          : (iq_meas < -iq_max) ? (q15_t)-iq_max
+                                                : iq_meas;
+    const q15_t pull = foc_mul_q15_shift(foc_sub_q15(iq_free, iq_meas), cc->pi_q.kp,
+                                         cc->pi_q.kp_shift);
+    vq = foc_add_q15(vq, pull);
+    vq = (vq > v_max) ? v_max : (vq < -v_max) ? (q15_t)-v_max : vq;
+    const q15_t vq_max = foc_cc_outside(v_max, v.d, vq) ? foc_cc_circle_q(v_max, v.d) : v_max;
+    v.q = (vq > vq_max) ? vq_max : (vq < -vq_max) ? (q15_t)-vq_max : vq;
+    foc_pi_set_limits(&cc->pi_q, (q15_t)-vq_max, vq_max);
+    foc_pi_preset(&cc->pi_q, v.q);
+    return v;
+}
 
 /* Presets both integrators to a voltage (hand-over to another frame). */
 void foc_cc_preset(foc_current_ctrl_t *cc, foc_dq_t v);

@@ -29,7 +29,27 @@ void foc_cs_calib_add(foc_current_sense_t *cs, const foc_samples_t *s);
 /* Offset-corrected alpha/beta current, Q15 of the current base, from the
  * valid phases; with fewer than two valid (no clean sampling window this
  * period) it returns `previous`. */
-foc_ab_t foc_cs_alphabeta(const foc_current_sense_t *cs, const foc_samples_t *s,
-                          foc_ab_t previous);
+static inline foc_ab_t foc_cs_alphabeta(const foc_current_sense_t *cs, const foc_samples_t *s,
+                                        foc_ab_t previous)
+{
+    const q15_t a = foc_sub_q15(s->i_a, cs->offset.a);
+    const q15_t b = foc_sub_q15(s->i_b, cs->offset.b);
+    const q15_t c = foc_sub_q15(s->i_c, cs->offset.c);
+
+    switch (s->phases & (FOC_PHASE_A | FOC_PHASE_B | FOC_PHASE_C)) {
+    case FOC_PHASE_A | FOC_PHASE_B:
+        return foc_clarke2_q15(a, b);
+    case FOC_PHASE_B | FOC_PHASE_C:
+        return foc_clarke2_q15(foc_sat_q15(-(int32_t)b - (int32_t)c), b);
+    case FOC_PHASE_A | FOC_PHASE_C:
+        return foc_clarke2_q15(a, foc_sat_q15(-(int32_t)a - (int32_t)c));
+    case FOC_PHASE_A | FOC_PHASE_B | FOC_PHASE_C: {
+        const foc_abc_t abc = { a, b, c };
+        return foc_clarke3_q15(abc);
+    }
+    default:
+        return previous;
+    }
+}
 
 #endif /* FOC_CURRENT_SENSE_H */

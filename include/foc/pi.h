@@ -27,6 +27,8 @@
 typedef struct {
     q15_t kp;         /* proportional gain mantissa, Q15 */
     uint8_t kp_shift; /* proportional gain exponent, 0..15 */
+    uint8_t kp_rshift; /* 15 - kp_shift: the product's right shift */
+    int32_t kp_round; /* half an LSB of that shift (0 for no shift) */
     q15_t ki;         /* integral gain per execution, mantissa, Q15 */
     uint8_t ki_shift; /* integral gain exponent, 0..15 */
     q15_t kc;         /* anti-windup back-calculation gain, Q15 */
@@ -39,14 +41,93 @@ typedef struct {
 void foc_pi_init(foc_pi_q15_t *pi, q15_t kp, uint8_t kp_shift, q15_t ki,
                  uint8_t ki_shift, q15_t kc, q15_t out_min, q15_t out_max);
 
+/* Integrator (Q31) of a Q15 value: the Q15 value in the upper 16 bits. */
+#define FOC_PI_Q15_TO_Q31(x) ((int32_t)(x) * 65536)
+
+/* Keeps the Q15 part of the integrator within the output limits. */
+static inline void foc_pi_clamp_integ(foc_pi_q15_t *pi)
+{
+    const q31_t lo = FOC_PI_Q15_TO_Q31(pi->out_min);
+    const q31_t hi = FOC_PI_Q15_TO_Q31(pi->out_max) + 65535; /* <= INT32_MAX */
+    if (pi->integ < lo) {
+        pi->integ = lo;
+    } else if (pi->integ > hi) {
+        pi->integ = hi;
+    }
+}
+
 /* Changes the limits at run time (the integrator is clamped to them). */
-void foc_pi_set_limits(foc_pi_q15_t *pi, q15_t out_min, q15_t out_max);
+static inline void foc_pi_set_limits(foc_pi_q15_t *pi, q15_t out_min, q15_t out_max)
+{
+    pi->out_min = out_min;
+    pi->out_max = out_max;
+    foc_pi_clamp_integ(pi);
+}
+
+/* u clamped to the output limits. */
+static inline q15_t foc_pi_clamp_out(const foc_pi_q15_t *pi, int32_t u)
+{
+    if (u < pi->out_min) {
+        return pi->out_min;
+    }
+    if (u > pi->out_max) {
+        return pi->out_max;
+    }
+    return (q15_t)u;
+}
 
 /* Presets the integrator so the next output with zero error is y0
  * (bumpless transfer); y0 is clamped to the limits. */
-void foc_pi_preset(foc_pi_q15_t *pi, q15_t y0);
+static inline void foc_pi_preset(foc_pi_q15_t *pi, q15_t y0)
+{
+    pi->integ = FOC_PI_Q15_TO_Q31(foc_pi_clamp_out(pi, y0));
+}
 
-/* One execution with error e = reference - feedback; returns the output. */
-q15_t foc_pi_step(foc_pi_q15_t *pi, q15_t e);
+/* The Q30 product p as Q31 times 2^shift (p x 2^(1 + shift)), saturated:
+ * multiplied, never shifted left, so a negative p is well defined. */
+static inline q31_t foc_pi_q30_to_q31_scaled(int32_t p, uint8_t shift)
+{
+    const int32_t limit = INT32_MAX >> (1u + shift);
+    if (p > limit) {
+        return INT32_MAX;
+    }
+    if (p < -limit) {
+        return -INT32_MAX;
+    }
+    return p * ((int32_t)2 << shift);
+}
+
+/* I + Kp e, the unsaturated output (Q15 held in 32 bits): the Q30 product
+ * shifted right by 15 - kp_shift, rounded; |Kp e| <= 2^30. */
+static inline int32_t foc_pi_unsat(const foc_pi_q15_t *pi, q15_t e)
+{
+    const int32_t prop = ((int32_t)pi->kp * (int32_t)e + pi->kp_round) >> pi->kp_rshift;
+    return (pi->integ >> 16) + prop;
+}
+
+/* The rest of an execution once the limits are known: y = u clamped, and
+ * I += Ki e + Kc (y - u), Q31 (the Q30 products doubled, Ki's scaled by
+ * its exponent; saturating), then kept within the output range.  y - u is
+ * saturated to Q15: the back-calculation only needs its sign and size up
+ * to full scale; it is 0 unless the output is limited. */
+static inline q15_t foc_pi_finish(foc_pi_q15_t *pi, q15_t e, int32_t u)
+{
+    const q15_t y = foc_pi_clamp_out(pi, u);
+    pi->integ = foc_add_q31(pi->integ,
+                            foc_pi_q30_to_q31_scaled((int32_t)pi->ki * (int32_t)e, pi->ki_shift));
+    if (y != u) {
+        const q15_t excess = foc_sat_q15((int32_t)y - u);
+        pi->integ = foc_add_q31(pi->integ, 2 * ((int32_t)pi->kc * (int32_t)excess));
+    }
+    foc_pi_clamp_integ(pi);
+    return y;
+}
+
+/* One execution with error e = reference - feedback; returns the output.
+ * Inline: the current loop runs two every PWM period. */
+static inline q15_t foc_pi_step(foc_pi_q15_t *pi, q15_t e)
+{
+    return foc_pi_finish(pi, e, foc_pi_unsat(pi, e));
+}
 
 #endif /* FOC_PI_H */

@@ -1,6 +1,7 @@
 /*
  * Integer square root, for the voltage circle sqrt(Vmax^2 - Vd^2) and vector
- * magnitudes.
+ * magnitudes.  The per-period path compares squares first and takes a root
+ * only where a limit really binds.
  */
 #ifndef FOC_SQRT_H
 #define FOC_SQRT_H
@@ -9,7 +10,8 @@
 #include "foc/q15.h"
 
 /* floor(sqrt(x)) for any 32-bit unsigned x; result fits 16 bits.
- * Bit-by-bit method: 16 iterations, no division, no multiplication. */
+ * Newton's iteration from above, seeded from the bit length: three or four
+ * 32/16-bit divisions. */
 uint16_t foc_isqrt32(uint32_t x);
 
 /* Magnitude of a Q15 vector, Q15, rounded down (never over-estimates),

@@ -28,6 +28,67 @@ typedef struct {
                     /* 60/120/.. deg edges are placed within 0.001 deg */
 } foc_duty_t;
 
-foc_duty_t foc_svm_q15(foc_ab_t v);
+/* Sector by the phases holding the largest and the smallest value
+ * (0 = a, 1 = b, 2 = c), svm.c. */
+extern const uint8_t foc_svm_sector_of[3][3];
+
+/* Duties for the vector v.  Duty of phase x:
+ *   d_x = 1/2 + (v_x - (v_max + v_min) / 2) / sqrt(3)
+ * with v_x the phase values of the vector (inverse Clarke) in per-unit of
+ * Vdc/sqrt(3), so a line-to-line duty difference is (v_x - v_y) / sqrt(3),
+ * i.e. the line voltage in per-unit of Vdc.  The injected zero sequence
+ * puts the centre of the duties at 1/2.  When the duty span would exceed
+ * the period (outside the hexagon), the offsets from 1/2 are scaled by
+ * period / span: same angle, smaller magnitude.  Inline: once per period. */
+static inline foc_duty_t foc_svm_q15(foc_ab_t v)
+{
+    /* Phase values over sqrt(3), Q30: u_a = alpha / sqrt(3),
+     * u_b,c = -alpha / (2 sqrt(3)) +- beta / 2.  |u| <= |v| / sqrt(3)
+     * <= 0.82 (|v| <= sqrt(2) for Q15 inputs), so < 2^30. */
+    int32_t u[3];
+    u[0] = (int32_t)v.alpha * FOC_INV_SQRT3;
+    u[1] = (int32_t)v.beta * 16384 - (u[0] >> 1);
+    u[2] = -(int32_t)v.beta * 16384 - (u[0] >> 1);
+
+    /* Largest and smallest phase; on a tie the later phase wins, which
+     * puts the alpha axis (u_b == u_c) into sectors 1 and 4. */
+    unsigned hi = (u[1] >= u[0]) ? 1u : 0u;
+    unsigned lo = (u[1] <= u[0]) ? 1u : 0u;
+    if (u[2] >= u[hi]) {
+        hi = 2u;
+    }
+    if (u[2] <= u[lo]) {
+        lo = 2u;
+    }
+    const int32_t mid = (u[hi] + u[lo]) >> 1; /* Q30, zero sequence */
+    const int32_t span = u[hi] - u[lo];      /* Q30, duty span, < 2^31 */
+
+    /* Duties, Q15: 1/2 plus the offset from the zero sequence (Q30 -> Q15,
+     * rounded), within the period but for the half-LSB rounding at its
+     * edges, which the clamp trims.  Beyond the hexagon the offsets are
+     * scaled by period / span, a Q15 gain held in 32 bits: the values fit
+     * a 32/16-bit division (span <= sqrt(2) < 2^16 in Q15, quotient
+     * < 2^15). */
+    int32_t d[3];
+    if (span > ((int32_t)1 << 30)) {
+        const int32_t gain =
+            (int32_t)((uint32_t)1 << 30) / (int32_t)((span + 0x4000) >> 15);
+        for (unsigned k = 0u; k < 3u; k++) {
+            const int32_t offset = (u[k] - mid + 0x4000) >> 15;
+            d[k] = 16384 + ((offset * gain + 0x4000) >> 15);
+        }
+    } else {
+        for (unsigned k = 0u; k < 3u; k++) {
+            d[k] = 16384 + ((u[k] - mid + 0x4000) >> 15);
+        }
+    }
+
+    foc_duty_t out;
+    out.a = (d[0] < 0) ? 0 : (d[0] > 32767) ? Q15_MAX : (q15_t)d[0];
+    out.b = (d[1] < 0) ? 0 : (d[1] > 32767) ? Q15_MAX : (q15_t)d[1];
+    out.c = (d[2] < 0) ? 0 : (d[2] > 32767) ? Q15_MAX : (q15_t)d[2];
+    out.sector = foc_svm_sector_of[hi][lo];
+    return out;
+}
 
 #endif /* FOC_SVM_H */

@@ -20,14 +20,62 @@ typedef struct {
     q15_t cos; /* Q15 */
 } foc_sincos_t;
 
+/* The quarter-wave table of trig.c: sin(2 pi i / 512), i = 0..128, Q15,
+ * point 128 repeated (index 128 read with a zero fraction). */
+extern const int16_t foc_sin_table[130];
+
+/* sin(x) for x in [0, 16384] counts, Q15 in [0, 32767]: table step x / 128,
+ * 7-bit fraction, interpolated and rounded. */
+static inline q15_t foc_quarter_sin_q15(uint16_t x)
+{
+    const uint16_t i = (uint16_t)(x >> 7);
+    const int32_t frac = (int32_t)(x & 127u);
+    const int32_t y0 = foc_sin_table[i];
+    const int32_t dy = (int32_t)foc_sin_table[i + 1u] - y0; /* 0..402 */
+    return (q15_t)(y0 + ((dy * frac + 64) >> 7));         /* <= 32767 */
+}
+
+/* sin and cos of one angle, Q15.  With p the position inside the quadrant,
+ * they are +-sin(p) and +-cos(p) = +-sin(90 deg - p), swapped in the odd
+ * quadrants. */
+static inline foc_sincos_t foc_sincos_q15(uint16_t angle)
+{
+    const uint16_t p = (uint16_t)(angle & 16383u);
+    const q15_t s = foc_quarter_sin_q15(p);
+    const q15_t c = foc_quarter_sin_q15((uint16_t)(16384u - p));
+    foc_sincos_t r;
+    switch (angle >> 14) {
+    case 0:
+        r.sin = s;
+        r.cos = c;
+        break;
+    case 1:
+        r.sin = c;
+        r.cos = (q15_t)-s;
+        break;
+    case 2:
+        r.sin = (q15_t)-s;
+        r.cos = (q15_t)-c;
+        break;
+    default:
+        r.sin = (q15_t)-c;
+        r.cos = s;
+        break;
+    }
+    return r;
+}
+
 /* sin(angle), Q15. */
-q15_t foc_sin_q15(uint16_t angle);
+static inline q15_t foc_sin_q15(uint16_t angle)
+{
+    return foc_sincos_q15(angle).sin;
+}
 
 /* cos(angle), Q15. */
-q15_t foc_cos_q15(uint16_t angle);
-
-/* Both at once (one table fold shared). */
-foc_sincos_t foc_sincos_q15(uint16_t angle);
+static inline q15_t foc_cos_q15(uint16_t angle)
+{
+    return foc_sincos_q15(angle).cos;
+}
 
 /* Angle of the vector (x, y), same scaling as above; (0, 0) gives 0.
  * x and y share any common scale (Q15 or raw). */
