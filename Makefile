@@ -222,7 +222,8 @@ $(STM32_OUT)/obj/%.o: %.c $(STM32_OUT)/cflags
 #               focsim frames (tools/bench) in a bare-metal Cortex-M3 image on
 #               an instruction-set simulator (tools/bench/bench.py, Unicorn):
 #               cycles and instructions per control step, flash, RAM, ISR
-#               stack, where the cycles go -> build/bench/report.txt, ending
+#               stack, where the cycles go -> build/bench/report.txt (and
+#               the fast step's cycles per source line: lines.txt), ending
 #               with key=value lines (docs/benchmarks.md).
 # make check    after `make test`: every host test under ASan+UBSan
 #               (build/sanitize), short libFuzzer runs, static analysis and
@@ -267,7 +268,8 @@ bench:
 	    FRAMES=$(BENCH_FRAMES) USERPARMS="$(BENCH_PARMS)" EXTRA_DEFS=-DFOC_ALL_ESTIMATORS
 	/usr/bin/python3 tools/bench/bench.py report --elf $(BENCH_OUT)/fw/bench.elf \
 	    --elf-all $(BENCH_OUT)/all/bench.elf --frames $(BENCH_FRAMES) \
-	    --build-dir $(BENCH_OUT)/fw --output $(BENCH_OUT)/report.txt
+	    --build-dir $(BENCH_OUT)/fw --output $(BENCH_OUT)/report.txt \
+	    --line-profile $(BENCH_OUT)/lines.txt
 
 check:
 	@fail=""; for t in check-sanitize check-fuzz check-static check-bench; do \

@@ -2,63 +2,13 @@
 #include "foc/config.h"
 #include "foc/lpf.h"
 
-/* Firmware builds only the configured estimator: the others are dead code
- * here, so the linker leaves them out.  The host builds them all (focsim
- * --estimator chooses at run time). */
-#ifdef FOC_ALL_ESTIMATORS
-#define BUILT(kind) 1
-#else
-#define BUILT(kind) ((kind) == FOC_ESTIMATOR || (kind) == FOC_EST_SENSORED)
-#endif
-
 int foc_est_select(foc_estimator_t *est, foc_est_kind_t kind)
 {
-    if ((unsigned)kind > (unsigned)FOC_EST_FLUX || !BUILT(kind)) {
+    if ((unsigned)kind > (unsigned)FOC_EST_FLUX || !FOC_EST_BUILT(kind)) {
         return -1;
     }
     est->kind = kind;
     return 0;
-}
-
-/* The selected estimator's own angle and speed. */
-static void read_estimate(foc_estimator_t *est)
-{
-    switch (est->kind) {
-    case FOC_EST_PLL:
-        if (BUILT(FOC_EST_PLL)) {
-            est->est_theta = est->u.pll.theta;
-            est->est_speed = foc_pll_speed(&est->u.pll);
-        }
-        break;
-    case FOC_EST_FLUX:
-        if (BUILT(FOC_EST_FLUX)) {
-            est->est_theta = est->u.flux.theta;
-            est->est_speed = foc_flux_speed(&est->u.flux);
-        }
-        break;
-    case FOC_EST_LUENBERGER:
-        if (BUILT(FOC_EST_LUENBERGER)) {
-            est->est_theta = est->u.luenberger.theta;
-            est->est_speed = foc_luen_speed(&est->u.luenberger);
-        }
-        break;
-    default:
-        est->est_theta = est->sensored.theta;
-        est->est_speed = foc_lpf_out(&est->sensored.speed);
-        break;
-    }
-}
-
-static void publish(foc_estimator_t *est)
-{
-    read_estimate(est);
-    if (est->use_sensor != 0u) {
-        est->theta = est->sensored.theta;
-        est->speed = foc_lpf_out(&est->sensored.speed);
-    } else {
-        est->theta = est->est_theta;
-        est->speed = est->est_speed;
-    }
 }
 
 void foc_est_reset(foc_estimator_t *est, const foc_est_input_t *in, uint8_t use_sensor)
@@ -67,57 +17,30 @@ void foc_est_reset(foc_estimator_t *est, const foc_est_input_t *in, uint8_t use_
     foc_sensored_reset(&est->sensored, in->theta_sensor);
     switch (est->kind) {
     case FOC_EST_PLL:
-        if (BUILT(FOC_EST_PLL)) {
+        if (FOC_EST_BUILT(FOC_EST_PLL)) {
             foc_pll_init(&est->u.pll);
             foc_pll_reset(&est->u.pll, 0, 0, in->i_ab);
         }
         break;
     case FOC_EST_FLUX:
-        if (BUILT(FOC_EST_FLUX)) {
+        if (FOC_EST_BUILT(FOC_EST_FLUX)) {
             foc_flux_reset(&est->u.flux, 0, 0, in->i_ab);
         }
         break;
     case FOC_EST_LUENBERGER:
-        if (BUILT(FOC_EST_LUENBERGER)) {
+        if (FOC_EST_BUILT(FOC_EST_LUENBERGER)) {
             foc_luen_reset(&est->u.luenberger, 0, 0, in->i_ab);
         }
         break;
     default:
         break;
     }
-    publish(est);
-}
-
-void foc_est_step(foc_estimator_t *est, const foc_est_input_t *in)
-{
-    if (est->use_sensor != 0u) {
-        foc_sensored_step(&est->sensored, in->theta_sensor);
-    }
-    switch (est->kind) {
-    case FOC_EST_PLL:
-        if (BUILT(FOC_EST_PLL)) {
-            foc_pll_step(&est->u.pll, in->v_ab, in->i_ab);
-        }
-        break;
-    case FOC_EST_FLUX:
-        if (BUILT(FOC_EST_FLUX)) {
-            foc_flux_step(&est->u.flux, in->v_ab, in->i_ab, in->iq_ref);
-        }
-        break;
-    case FOC_EST_LUENBERGER:
-        if (BUILT(FOC_EST_LUENBERGER)) {
-            foc_luen_step(&est->u.luenberger, in->v_ab, in->i_ab);
-        }
-        break;
-    default:
-        break;
-    }
-    publish(est);
+    foc_est_publish(est);
 }
 
 void foc_est_set_fw(foc_estimator_t *est, q15_t inv_kfi, q15_t ls_scale)
 {
-    if (BUILT(FOC_EST_PLL) && est->kind == FOC_EST_PLL) {
+    if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == FOC_EST_PLL) {
         foc_pll_set_inv_kfi(&est->u.pll, inv_kfi);
         foc_pll_set_ls_scale(&est->u.pll, ls_scale);
     }
@@ -125,7 +48,7 @@ void foc_est_set_fw(foc_estimator_t *est, q15_t inv_kfi, q15_t ls_scale)
 
 uint8_t foc_est_emf_consistent(const foc_estimator_t *est, q15_t ratio)
 {
-    if (!BUILT(est->kind)) {
+    if (!FOC_EST_BUILT(est->kind)) {
         return 1;
     }
     switch (est->kind) {

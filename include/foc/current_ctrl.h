@@ -44,7 +44,7 @@ static inline uint8_t foc_cc_outside(q15_t v_max, q15_t vd, q15_t vq)
 static inline q15_t foc_cc_d_axis(foc_current_ctrl_t *cc, q15_t id_ref, q15_t id_meas,
                                   q15_t v_max)
 {
-    foc_pi_set_limits(&cc->pi_d, (q15_t)-v_max, v_max);
+    foc_pi_limit_next(&cc->pi_d, v_max);
     return foc_pi_step(&cc->pi_d, foc_sub_q15(id_ref, id_meas));
 }
 
@@ -61,7 +61,7 @@ static inline foc_dq_t foc_cc_step(foc_current_ctrl_t *cc, foc_dq_t i_ref, foc_d
     const q15_t candidate = (u_q > v_max) ? v_max : (u_q < -v_max) ? (q15_t)-v_max : (q15_t)u_q;
     const q15_t vq_max = foc_cc_outside(v_max, v.d, candidate) ? foc_cc_circle_q(v_max, v.d)
                                                                 : v_max;
-    foc_pi_set_limits(&cc->pi_q, (q15_t)-vq_max, vq_max);
+    foc_pi_limit_next(&cc->pi_q, vq_max);
     v.q = foc_pi_finish(&cc->pi_q, e_q, u_q);
     return v;
 }

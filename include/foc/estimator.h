@@ -13,6 +13,7 @@
 #define FOC_ESTIMATOR_H
 
 #include <stdint.h>
+#include "foc/config.h"
 #include "foc/flux_est.h"
 #include "foc/luenberger.h"
 #include "foc/pll_est.h"
@@ -58,8 +59,80 @@ int foc_est_select(foc_estimator_t *est, foc_est_kind_t kind);
  * with the rotor position unknown; `use_sensor` chooses the source. */
 void foc_est_reset(foc_estimator_t *est, const foc_est_input_t *in, uint8_t use_sensor);
 
-/* One PWM period; updates all outputs. */
-void foc_est_step(foc_estimator_t *est, const foc_est_input_t *in);
+/* Firmware builds only the configured estimator: the others are dead
+ * code, so the linker leaves them out.  The host builds them all
+ * (focsim --estimator chooses at run time). */
+#ifdef FOC_ALL_ESTIMATORS
+#define FOC_EST_BUILT(kind) 1
+#else
+#define FOC_EST_BUILT(kind) ((kind) == FOC_ESTIMATOR || (kind) == FOC_EST_SENSORED)
+#endif
+
+/* The selected estimator's own figures, then the ones the controller
+ * uses (the sensor's during a sensored start). */
+static inline void foc_est_publish(foc_estimator_t *est)
+{
+    switch (est->kind) {
+    case FOC_EST_PLL:
+        if (FOC_EST_BUILT(FOC_EST_PLL)) {
+            est->est_theta = est->u.pll.theta;
+            est->est_speed = foc_pll_speed(&est->u.pll);
+        }
+        break;
+    case FOC_EST_FLUX:
+        if (FOC_EST_BUILT(FOC_EST_FLUX)) {
+            est->est_theta = est->u.flux.theta;
+            est->est_speed = foc_flux_speed(&est->u.flux);
+        }
+        break;
+    case FOC_EST_LUENBERGER:
+        if (FOC_EST_BUILT(FOC_EST_LUENBERGER)) {
+            est->est_theta = est->u.luenberger.theta;
+            est->est_speed = foc_luen_speed(&est->u.luenberger);
+        }
+        break;
+    default:
+        est->est_theta = est->sensored.theta;
+        est->est_speed = foc_lpf_out(&est->sensored.speed);
+        break;
+    }
+    if (est->use_sensor != 0u) {
+        est->theta = est->sensored.theta;
+        est->speed = foc_lpf_out(&est->sensored.speed);
+    } else {
+        est->theta = est->est_theta;
+        est->speed = est->est_speed;
+    }
+}
+
+/* One PWM period; updates all outputs.  Inline: the dispatch is a switch
+ * the firmware build reduces to its one estimator. */
+static inline void foc_est_step(foc_estimator_t *est, const foc_est_input_t *in)
+{
+    if (est->use_sensor != 0u) {
+        foc_sensored_step(&est->sensored, in->theta_sensor);
+    }
+    switch (est->kind) {
+    case FOC_EST_PLL:
+        if (FOC_EST_BUILT(FOC_EST_PLL)) {
+            foc_pll_step(&est->u.pll, in->v_ab, in->i_ab);
+        }
+        break;
+    case FOC_EST_FLUX:
+        if (FOC_EST_BUILT(FOC_EST_FLUX)) {
+            foc_flux_step(&est->u.flux, in->v_ab, in->i_ab, in->iq_ref);
+        }
+        break;
+    case FOC_EST_LUENBERGER:
+        if (FOC_EST_BUILT(FOC_EST_LUENBERGER)) {
+            foc_luen_step(&est->u.luenberger, in->v_ab, in->i_ab);
+        }
+        break;
+    default:
+        break;
+    }
+    foc_est_publish(est);
+}
 
 /* Field weakening's run-time machine constants: 1/KFi as a mantissa of
  * FOC_PLL_INVKFI_SHIFT and Ls/(2 Ls0) in Q15 (0.5 nominal); estimators

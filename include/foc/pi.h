@@ -14,9 +14,12 @@
  * output could not use.
  *
  * Gains: Kp = kp * 2^kp_shift / 32768 (kp Q15, kp_shift 0..15) so gains
- * above 1 are possible; Ki and Kc are Q15 (per execution), in [0, 32767].
- * Error, output and limits are Q15; the integrator is Q31 (upper 16 bits =
- * Q15 value).
+ * above 1 are possible; Ki = ki * 2^ki_shift / 32768 and Kc are Q15 (per
+ * execution), in [0, 32767].  Error, output and limits are Q15; the
+ * integrator is Q30 (the Q15 value times 2^15, with 15 fraction bits: the
+ * Q30 products Ki e and Kc (y - u) add to it exactly).  It is kept within
+ * the output range, |I| <= 2^30, so adding a product (< 2^30) cannot
+ * overflow 32 bits.
  */
 #ifndef FOC_PI_H
 #define FOC_PI_H
@@ -25,30 +28,30 @@
 #include "foc/q15.h"
 
 typedef struct {
-    q15_t kp;         /* proportional gain mantissa, Q15 */
-    uint8_t kp_shift; /* proportional gain exponent, 0..15 */
+    q15_t kp;          /* proportional gain mantissa, Q15 */
+    uint8_t kp_shift;  /* proportional gain exponent, 0..15 */
     uint8_t kp_rshift; /* 15 - kp_shift: the product's right shift */
-    int32_t kp_round; /* half an LSB of that shift (0 for no shift) */
-    q15_t ki;         /* integral gain per execution, mantissa, Q15 */
-    uint8_t ki_shift; /* integral gain exponent, 0..15 */
-    q15_t kc;         /* anti-windup back-calculation gain, Q15 */
-    q15_t out_min;    /* output limits, Q15, out_min <= out_max */
+    int32_t kp_round;  /* half an LSB of that shift (0 for no shift) */
+    q15_t ki;          /* integral gain per execution, mantissa, Q15 */
+    uint8_t ki_shift;  /* integral gain exponent, 0..15 */
+    q15_t kc;          /* anti-windup back-calculation gain, Q15 */
+    q15_t out_min;     /* output limits, Q15, out_min <= out_max */
     q15_t out_max;
-    q31_t integ;      /* integrator, Q31 */
+    q31_t integ;       /* integrator, Q30 */
 } foc_pi_q15_t;
 
 /* Sets gains and limits, clears the integrator. */
 void foc_pi_init(foc_pi_q15_t *pi, q15_t kp, uint8_t kp_shift, q15_t ki,
                  uint8_t ki_shift, q15_t kc, q15_t out_min, q15_t out_max);
 
-/* Integrator (Q31) of a Q15 value: the Q15 value in the upper 16 bits. */
-#define FOC_PI_Q15_TO_Q31(x) ((int32_t)(x) * 65536)
+/* Integrator (Q30) of a Q15 value. */
+#define FOC_PI_Q15_TO_Q30(x) ((int32_t)(x) * 32768)
 
 /* Keeps the Q15 part of the integrator within the output limits. */
 static inline void foc_pi_clamp_integ(foc_pi_q15_t *pi)
 {
-    const q31_t lo = FOC_PI_Q15_TO_Q31(pi->out_min);
-    const q31_t hi = FOC_PI_Q15_TO_Q31(pi->out_max) + 65535; /* <= INT32_MAX */
+    const q31_t lo = FOC_PI_Q15_TO_Q30(pi->out_min);
+    const q31_t hi = FOC_PI_Q15_TO_Q30(pi->out_max) + 32767;
     if (pi->integ < lo) {
         pi->integ = lo;
     } else if (pi->integ > hi) {
@@ -62,6 +65,14 @@ static inline void foc_pi_set_limits(foc_pi_q15_t *pi, q15_t out_min, q15_t out_
     pi->out_min = out_min;
     pi->out_max = out_max;
     foc_pi_clamp_integ(pi);
+}
+
+/* Limits +-lim (0 <= lim) for the step that follows, which clamps the
+ * integrator to them itself. */
+static inline void foc_pi_limit_next(foc_pi_q15_t *pi, q15_t lim)
+{
+    pi->out_min = (q15_t)-lim;
+    pi->out_max = lim;
 }
 
 /* u clamped to the output limits. */
@@ -80,21 +91,7 @@ static inline q15_t foc_pi_clamp_out(const foc_pi_q15_t *pi, int32_t u)
  * (bumpless transfer); y0 is clamped to the limits. */
 static inline void foc_pi_preset(foc_pi_q15_t *pi, q15_t y0)
 {
-    pi->integ = FOC_PI_Q15_TO_Q31(foc_pi_clamp_out(pi, y0));
-}
-
-/* The Q30 product p as Q31 times 2^shift (p x 2^(1 + shift)), saturated:
- * multiplied, never shifted left, so a negative p is well defined. */
-static inline q31_t foc_pi_q30_to_q31_scaled(int32_t p, uint8_t shift)
-{
-    const int32_t limit = INT32_MAX >> (1u + shift);
-    if (p > limit) {
-        return INT32_MAX;
-    }
-    if (p < -limit) {
-        return -INT32_MAX;
-    }
-    return p * ((int32_t)2 << shift);
+    pi->integ = FOC_PI_Q15_TO_Q30(foc_pi_clamp_out(pi, y0));
 }
 
 /* I + Kp e, the unsaturated output (Q15 held in 32 bits): the Q30 product
@@ -102,22 +99,39 @@ static inline q31_t foc_pi_q30_to_q31_scaled(int32_t p, uint8_t shift)
 static inline int32_t foc_pi_unsat(const foc_pi_q15_t *pi, q15_t e)
 {
     const int32_t prop = ((int32_t)pi->kp * (int32_t)e + pi->kp_round) >> pi->kp_rshift;
-    return (pi->integ >> 16) + prop;
+    return (pi->integ >> 15) + prop;
+}
+
+/* Ki e, Q30: the product times 2^ki_shift, multiplied (never shifted
+ * left) and limited to +-2^30 (a step beyond the whole range ends at the
+ * limit all the same). */
+static inline int32_t foc_pi_ki_term(const foc_pi_q15_t *pi, q15_t e)
+{
+    const int32_t p = (int32_t)pi->ki * (int32_t)e; /* |p| < 2^30 */
+    if (pi->ki_shift == 0u) {
+        return p;
+    }
+    const int32_t limit = ((int32_t)1 << 30) >> pi->ki_shift;
+    if (p > limit) {
+        return (int32_t)1 << 30;
+    }
+    if (p < -limit) {
+        return -((int32_t)1 << 30);
+    }
+    return p * ((int32_t)1 << pi->ki_shift);
 }
 
 /* The rest of an execution once the limits are known: y = u clamped, and
- * I += Ki e + Kc (y - u), Q31 (the Q30 products doubled, Ki's scaled by
- * its exponent; saturating), then kept within the output range.  y - u is
+ * I += Ki e + Kc (y - u), then I kept within the output range.  y - u is
  * saturated to Q15: the back-calculation only needs its sign and size up
  * to full scale; it is 0 unless the output is limited. */
 static inline q15_t foc_pi_finish(foc_pi_q15_t *pi, q15_t e, int32_t u)
 {
     const q15_t y = foc_pi_clamp_out(pi, u);
-    pi->integ = foc_add_q31(pi->integ,
-                            foc_pi_q30_to_q31_scaled((int32_t)pi->ki * (int32_t)e, pi->ki_shift));
+    pi->integ += foc_pi_ki_term(pi, e); /* |I| <= 2^30: no overflow */
     if (y != u) {
         const q15_t excess = foc_sat_q15((int32_t)y - u);
-        pi->integ = foc_add_q31(pi->integ, 2 * ((int32_t)pi->kc * (int32_t)excess));
+        pi->integ = foc_add_q31(pi->integ, (int32_t)pi->kc * (int32_t)excess);
     }
     foc_pi_clamp_integ(pi);
     return y;

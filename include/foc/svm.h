@@ -32,6 +32,16 @@ typedef struct {
  * (0 = a, 1 = b, 2 = c), svm.c. */
 extern const uint8_t foc_svm_sector_of[3][3];
 
+/* A duty within [0, 32767]: USAT on Cortex-M3, compares elsewhere. */
+static inline q15_t foc_svm_duty_clamp(int32_t d)
+{
+#if defined(__ARM_FEATURE_SAT) && defined(__GNUC__) && !defined(FOC_PORTABLE_ONLY)
+    return (q15_t)__builtin_arm_usat(d, 15);
+#else
+    return (d < 0) ? 0 : (d > 32767) ? Q15_MAX : (q15_t)d;
+#endif
+}
+
 /* Duties for the vector v.  Duty of phase x:
  *   d_x = 1/2 + (v_x - (v_max + v_min) / 2) / sqrt(3)
  * with v_x the phase values of the vector (inverse Clarke) in per-unit of
@@ -84,9 +94,9 @@ static inline foc_duty_t foc_svm_q15(foc_ab_t v)
     }
 
     foc_duty_t out;
-    out.a = (d[0] < 0) ? 0 : (d[0] > 32767) ? Q15_MAX : (q15_t)d[0];
-    out.b = (d[1] < 0) ? 0 : (d[1] > 32767) ? Q15_MAX : (q15_t)d[1];
-    out.c = (d[2] < 0) ? 0 : (d[2] > 32767) ? Q15_MAX : (q15_t)d[2];
+    out.a = foc_svm_duty_clamp(d[0]);
+    out.b = foc_svm_duty_clamp(d[1]);
+    out.c = foc_svm_duty_clamp(d[2]);
     out.sector = foc_svm_sector_of[hi][lo];
     return out;
 }

@@ -35,46 +35,37 @@ static inline q15_t foc_quarter_sin_q15(uint16_t x)
     return (q15_t)(y0 + ((dy * frac + 64) >> 7));         /* <= 32767 */
 }
 
-/* sin and cos of one angle, Q15.  With p the position inside the quadrant,
- * they are +-sin(p) and +-cos(p) = +-sin(90 deg - p), swapped in the odd
- * quadrants. */
+/* sin of any angle, Q15: folded onto the first quadrant through
+ * sin(180 deg - x) = sin(x) and sin(x + 180 deg) = -sin(x). */
+static inline q15_t foc_sin_fold_q15(uint16_t angle)
+{
+    uint16_t x = (uint16_t)(angle & 32767u);
+    if (x > 16384u) {
+        x = (uint16_t)(32768u - x);
+    }
+    const q15_t s = foc_quarter_sin_q15(x);
+    return ((angle & 32768u) != 0u) ? (q15_t)-s : s;
+}
+
+/* sin and cos of one angle, Q15 (cos(x) = sin(x + 90 deg)). */
 static inline foc_sincos_t foc_sincos_q15(uint16_t angle)
 {
-    const uint16_t p = (uint16_t)(angle & 16383u);
-    const q15_t s = foc_quarter_sin_q15(p);
-    const q15_t c = foc_quarter_sin_q15((uint16_t)(16384u - p));
     foc_sincos_t r;
-    switch (angle >> 14) {
-    case 0:
-        r.sin = s;
-        r.cos = c;
-        break;
-    case 1:
-        r.sin = c;
-        r.cos = (q15_t)-s;
-        break;
-    case 2:
-        r.sin = (q15_t)-s;
-        r.cos = (q15_t)-c;
-        break;
-    default:
-        r.sin = (q15_t)-c;
-        r.cos = s;
-        break;
-    }
+    r.sin = foc_sin_fold_q15(angle);
+    r.cos = foc_sin_fold_q15((uint16_t)(angle + 16384u));
     return r;
 }
 
 /* sin(angle), Q15. */
 static inline q15_t foc_sin_q15(uint16_t angle)
 {
-    return foc_sincos_q15(angle).sin;
+    return foc_sin_fold_q15(angle);
 }
 
 /* cos(angle), Q15. */
 static inline q15_t foc_cos_q15(uint16_t angle)
 {
-    return foc_sincos_q15(angle).cos;
+    return foc_sin_fold_q15((uint16_t)(angle + 16384u));
 }
 
 /* Angle of the vector (x, y), same scaling as above; (0, 0) gives 0.

@@ -31,7 +31,7 @@ static ref_pi_t ref_from(const foc_pi_q15_t *pi, int anti_windup)
                          anti_windup ? pi->kc / 32768.0 : 0.0,
                          pi->out_min,
                          pi->out_max,
-                         pi->integ / 65536.0,
+                         pi->integ / 32768.0,
                          anti_windup };
     return r;
 }
@@ -148,8 +148,8 @@ static void case_windup_recovery(void)
     }
     TK_CHECK(saturated >= 4900, "saturated only %d steps", saturated);
     const double settled = pi.out_max - 0.2 * e_hold + (0.01 / 0.1) * e_hold;
-    TK_CHECK(fabs(pi.integ / 65536.0 - settled) <= 2.0,
-             "integrator %.1f, want %.1f", pi.integ / 65536.0, settled);
+    TK_CHECK(fabs(pi.integ / 32768.0 - settled) <= 2.0,
+             "integrator %.1f, want %.1f", pi.integ / 32768.0, settled);
 
     const long fixed = leave_steps_fixed(&pi, e_back, 1000000L);
     const long ref = leave_steps_ref(&plain, e_back, 1000000L);
@@ -236,7 +236,7 @@ static void case_integrator_in_range(void)
             foc_pi_set_limits(&pi, a < b ? a : b, a < b ? b : a);
         }
         const q15_t y = foc_pi_step(&pi, (q15_t)(s >> 16));
-        const int32_t i15 = pi.integ >> 16;
+        const int32_t i15 = pi.integ >> 15;
         if ((y < pi.out_min || y > pi.out_max || i15 < pi.out_min
              || i15 > pi.out_max) && errors++ < 5) {
             TK_CHECK(0, "step %d: y=%d I=%ld limits [%d, %d]", n, y,
@@ -285,7 +285,7 @@ static void case_set_limits(void)
     foc_pi_init(&pi, Q15(0.5), 0, Q15(0.01), 0, Q15(0.1), Q15(-0.9), Q15(0.9));
     foc_pi_preset(&pi, Q15(0.8));
     foc_pi_set_limits(&pi, Q15(-0.5), Q15(0.5));
-    TK_CHECK((pi.integ >> 16) == Q15(0.5), "I=%ld", (long)(pi.integ >> 16));
+    TK_CHECK((pi.integ >> 15) == Q15(0.5), "I=%ld", (long)(pi.integ >> 15));
     TK_CHECK(foc_pi_step(&pi, 0) == Q15(0.5), "clamped output");
     foc_pi_set_limits(&pi, Q15(-0.9), Q15(0.9));
     TK_CHECK(foc_pi_step(&pi, 0) == Q15(0.5), "widened: %d",

@@ -366,7 +366,7 @@ class Block:
     skipped (1 cycle) and no divide early termination (2 cycles), the
     instruction count, the last instruction, and how far below its entry
     SP it pushes."""
-    __slots__ = ("cost", "n", "last", "sp_low", "fn")
+    __slots__ = ("cost", "n", "last", "sp_low", "fn", "costs")
 
 
 def make_block(table, addr, size):
@@ -374,6 +374,7 @@ def make_block(table, addr, size):
     cost, n, prev, depth, low = 0, 0, None, 0, 0
     a, end = addr, addr + size
     last = None
+    costs = []
     while a < end:
         ins = table.get(a)
         if ins is None:
@@ -381,6 +382,7 @@ def make_block(table, addr, size):
         n += 1
         if ins.cond is not None:
             cost += 1
+            costs.append((a, 1))
             prev = None
         else:
             c = ins.base
@@ -392,12 +394,14 @@ def make_block(table, addr, size):
                 elif prev.kind in (K_ALU, K_DIV) and (prev.dest & ins.addr_regs):
                     c += 1
             cost += c
+            costs.append((a, c))
             prev = ins
             depth += ins.sp_step
             low = min(low, depth)
         last = ins
         a = ins.fall
     b.cost, b.n, b.last, b.sp_low = cost, n, last, low
+    b.costs = costs
     b.fn = table[addr].fn
     return b
 
@@ -428,6 +432,7 @@ def run_profiled(img, frames, target_frames, mask=0xFFFFFFFF):
     incl, selfc, ncalls = [0] * nf, [0] * nf, [0] * nf
     fast_calls, slow_calls = [], []   # (cycles, insns, refills, stack, divides)
     blocks = {}
+    bcount = {}   # target fast-step executions per block (line profile)
     # which frame each fast-step call belongs to: a first, untimed run
     # tells which scenarios the image can run (its estimators), the timed
     # run is limited to those
@@ -491,6 +496,8 @@ def run_profiled(img, frames, target_frames, mask=0xFFFFFFFF):
                 if sp < st[SPMIN]:
                     st[SPMIN] = sp
             st[CYC] = cyc + b.cost
+            if st[TARGET]:
+                bcount[b] = bcount.get(b, 0) + 1
             st[INS] += b.n
             st[PREV] = b.last
         except Exception as e:  # a hook cannot raise through Unicorn
@@ -525,7 +532,12 @@ def run_profiled(img, frames, target_frames, mask=0xFFFFFFFF):
                          % (e, mu.reg_read(UA.UC_ARM_REG_PC)))
     if errors:
         raise SystemExit("bench.py: %s" % errors[0])
-    prof = dict(incl=incl, self=selfc, calls=ncalls)
+    insn_cycles = {}
+    for b, n in bcount.items():
+        for addr, c in b.costs:
+            insn_cycles[addr] = insn_cycles.get(addr, 0) + c * n
+    prof = dict(incl=incl, self=selfc, calls=ncalls, insn_cycles=insn_cycles,
+                target_calls=len(target_calls))
     res = read_result(mu, img)
     ran = [i for i in range(frames.count) if not res["skipped"] >> frames.scenario_of[i] & 1]
     if ran != order or len(ran) != len(fast_calls):
@@ -701,6 +713,22 @@ def scenario_rows(w, frames, fast_of, scenarios):
                                                             c[0], c[1], c[2], n[0], n[1], n[2]))
 
 
+def write_line_profile(elf, prof, path):
+    """Cycles per source line of the target's fast step (inlined code at
+    its own line; taken-branch refills not included), most first."""
+    addrs = sorted(prof["insn_cycles"])
+    out = subprocess.run(["arm-none-eabi-addr2line", "-e", elf] + ["0x%x" % x for x in addrs],
+                         capture_output=True, text=True, check=True).stdout.split("\n")
+    per_line = {}
+    for x, loc in zip(addrs, out):
+        loc = loc.split(" (")[0]
+        per_line[loc] = per_line.get(loc, 0) + prof["insn_cycles"][x]
+    n = max(prof["target_calls"], 1)
+    with open(path, "w") as f:
+        for loc, c in sorted(per_line.items(), key=lambda kv: -kv[1]):
+            f.write("%8.1f  %s\n" % (c / n, loc))
+
+
 def cmd_report(a):
     img = Image(a.elf)
     frames = Frames(a.frames)
@@ -711,6 +739,8 @@ def cmd_report(a):
     target = set(i for i in range(tinfo["first"], tinfo["first"] + tinfo["count"])
                  if frames.state_before[i] in LOOP_STATES)
     result, fast_of, slow_of, prof = run_profiled(img, frames, target)
+    if a.line_profile:
+        write_line_profile(a.elf, prof, a.line_profile)
     ran_fw = [n for n in range(len(frames.scenarios)) if not result["skipped"] >> n & 1]
     if result["frames"] != sum(frames.scenarios[n]["count"] for n in ran_fw):
         raise SystemExit("bench.py: the image ran %d frames" % result["frames"])
@@ -871,6 +901,7 @@ def main():
     r.add_argument("--build-dir", required=True)
     r.add_argument("--elf-all", help="an all-estimator image for the other scenarios")
     r.add_argument("--output")
+    r.add_argument("--line-profile", help="write the fast step's cycles per source line here")
     a = ap.parse_args()
     return cmd_check(a) if a.cmd == "check" else cmd_report(a)
 

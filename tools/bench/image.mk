@@ -24,7 +24,7 @@ CPU      := -mcpu=cortex-m3 -mthumb
 OPT      ?= -O2
 WARN     := -Wall -Wextra -Wconversion -Werror
 DEFS     := -Iinclude -DFOC_USERPARMS_FILE='"$(USERPARMS)"' $(EXTRA_DEFS)
-CORE_CFLAGS  := $(CPU) $(OPT) -std=c99 $(WARN) $(DEFS) -ffunction-sections \
+CORE_CFLAGS  := $(CPU) $(OPT) -g -std=c99 $(WARN) $(DEFS) -ffunction-sections \
                 -fdata-sections -fstack-usage -fcallgraph-info=su
 # The harness avoids library calls (no loop-to-memcpy rewriting) so that
 # any library code in the image is there for the core.
