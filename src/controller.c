@@ -128,7 +128,7 @@ static q15_t forced_vq(q15_t speed, q15_t id)
 /* The current loop on angle `theta` turning at `speed`: every period in
  * ALIGN, OPENLOOP, RUN, STOP and BRAKE (until the windings are shorted);
  * in the forced frame of the start-up the q axis is voltage-driven
- * (foc_cc_step_vq: damping).  The estimator runs on every period so that
+ * (foc_cc_q_forced: damping).  The estimator runs on every period so that
  * it has converged by the hand-over. */
 static void current_loop(foc_ctrl_t *c, uint16_t theta, q15_t speed, uint8_t forced)
 {
@@ -151,13 +151,15 @@ static void current_loop(foc_ctrl_t *c, uint16_t theta, q15_t speed, uint8_t for
     c->v_ab_prev = c->v_ab;
 
     c->i_dq = foc_park_q15(c->i_ab, foc_sincos_q15(theta));
+    /* d first, with the whole voltage: AN1292's d-axis priority */
+    const q15_t v_max = c->bus.v_max;
+    c->v_dq.d = foc_cc_d_axis(&c->current_ctrl, c->i_ref.d, c->i_dq.d, v_max);
     if (forced != 0u) {
         /* the q swing current may use what the d current leaves */
-        c->v_dq = foc_cc_step_vq(&c->current_ctrl, c->i_ref.d, c->i_dq.d,
-                                 forced_vq(speed, c->i_ref.d), c->i_dq.q, c->forced_iq_max,
-                                 c->bus.v_max);
+        c->v_dq.q = foc_cc_q_forced(&c->current_ctrl, forced_vq(speed, c->i_ref.d), c->i_dq.q,
+                                    c->forced_iq_max, c->v_dq.d, v_max);
     } else {
-        c->v_dq = foc_cc_step(&c->current_ctrl, c->i_ref, c->i_dq, c->bus.v_max);
+        c->v_dq.q = foc_cc_q_axis(&c->current_ctrl, c->i_ref.q, c->i_dq.q, c->v_dq.d, v_max);
     }
 
     const q15_t advance = foc_mul_q15(speed, ADVANCE_GAIN);

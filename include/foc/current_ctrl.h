@@ -48,37 +48,32 @@ static inline q15_t foc_cc_d_axis(foc_current_ctrl_t *cc, q15_t id_ref, q15_t id
     return foc_pi_step(&cc->pi_d, foc_sub_q15(id_ref, id_meas));
 }
 
-/* One PWM period: voltage command for reference and measured currents.
- * The q PI's limit is +-Vmax while its output lies inside the circle; the
- * root is taken only when it does not. */
-static inline foc_dq_t foc_cc_step(foc_current_ctrl_t *cc, foc_dq_t i_ref, foc_dq_t i_meas,
-                                   q15_t v_max)
+/* The q axis of one PWM period, after the d axis gave vd: the PI on the
+ * q current error.  Its limit is +-Vmax while its output lies inside the
+ * circle; the root is taken only when it does not. */
+static inline q15_t foc_cc_q_axis(foc_current_ctrl_t *cc, q15_t iq_ref, q15_t iq_meas,
+                                  q15_t vd, q15_t v_max)
 {
-    foc_dq_t v;
-    v.d = foc_cc_d_axis(cc, i_ref.d, i_meas.d, v_max);
-    const q15_t e_q = foc_sub_q15(i_ref.q, i_meas.q);
+    const q15_t e_q = foc_sub_q15(iq_ref, iq_meas);
     const int32_t u_q = foc_pi_unsat(&cc->pi_q, e_q);
     const q15_t candidate = (u_q > v_max) ? v_max : (u_q < -v_max) ? (q15_t)-v_max : (q15_t)u_q;
-    const q15_t vq_max = foc_cc_outside(v_max, v.d, candidate) ? foc_cc_circle_q(v_max, v.d)
-                                                                : v_max;
+    const q15_t vq_max = foc_cc_outside(v_max, vd, candidate) ? foc_cc_circle_q(v_max, vd)
+                                                               : v_max;
     foc_pi_limit_next(&cc->pi_q, vq_max);
-    v.q = foc_pi_finish(&cc->pi_q, e_q, u_q);
-    return v;
+    return foc_pi_finish(&cc->pi_q, e_q, u_q);
 }
 
-/* One PWM period with the q voltage given instead of regulated: Vd from
- * the d PI, Vq = `vq` limited to the circle.  In the forced frame of the
- * start-up this lets the back-EMF of a rotor swinging about the forced
- * angle drive currents through Rs: electrical damping, which a q current
- * loop would cancel.  Only while |Iq| <= iq_max: beyond, the proportional
- * gain pulls it back (a low-resistance winding would otherwise carry a
- * large swing current).  The q integrator follows Vq, so switching back to
- * foc_cc_step() is bumpless. */
-static inline foc_dq_t foc_cc_step_vq(foc_current_ctrl_t *cc, q15_t id_ref, q15_t id_meas,
-                                      q15_t vq, q15_t iq_meas, q15_t iq_max, q15_t v_max)
+/* The q axis with the q voltage given instead of regulated: `vq` limited
+ * to the circle.  In the forced frame of the start-up this lets the
+ * back-EMF of a rotor swinging about the forced angle drive currents
+ * through Rs: electrical damping, which a q current loop would cancel.
+ * Only while |Iq| <= iq_max: beyond, the proportional gain pulls it back
+ * (a low-resistance winding would otherwise carry a large swing current).
+ * The q integrator follows Vq, so switching back to foc_cc_q_axis() is
+ * bumpless. */
+static inline q15_t foc_cc_q_forced(foc_current_ctrl_t *cc, q15_t vq, q15_t iq_meas,
+                                    q15_t iq_max, q15_t vd, q15_t v_max)
 {
-    foc_dq_t v;
-    v.d = foc_cc_d_axis(cc, id_ref, id_meas, v_max);
     const q15_t iq_free = (iq_meas > iq_max)    ? iq_max
                           : (iq_meas < -iq_max) ? (q15_t)-iq_max
                                                 : iq_meas;
@@ -86,11 +81,11 @@ static inline foc_dq_t foc_cc_step_vq(foc_current_ctrl_t *cc, q15_t id_ref, q15_
                                          cc->pi_q.kp_shift);
     vq = foc_add_q15(vq, pull);
     vq = (vq > v_max) ? v_max : (vq < -v_max) ? (q15_t)-v_max : vq;
-    const q15_t vq_max = foc_cc_outside(v_max, v.d, vq) ? foc_cc_circle_q(v_max, v.d) : v_max;
-    v.q = (vq > vq_max) ? vq_max : (vq < -vq_max) ? (q15_t)-vq_max : vq;
+    const q15_t vq_max = foc_cc_outside(v_max, vd, vq) ? foc_cc_circle_q(v_max, vd) : v_max;
+    vq = (vq > vq_max) ? vq_max : (vq < -vq_max) ? (q15_t)-vq_max : vq;
     foc_pi_set_limits(&cc->pi_q, (q15_t)-vq_max, vq_max);
-    foc_pi_preset(&cc->pi_q, v.q);
-    return v;
+    foc_pi_preset(&cc->pi_q, vq);
+    return vq;
 }
 
 /* Presets both integrators to a voltage (hand-over to another frame). */

@@ -35,37 +35,40 @@ static inline q15_t foc_quarter_sin_q15(uint16_t x)
     return (q15_t)(y0 + ((dy * frac + 64) >> 7));         /* <= 32767 */
 }
 
-/* sin of any angle, Q15: folded onto the first quadrant through
- * sin(180 deg - x) = sin(x) and sin(x + 180 deg) = -sin(x). */
-static inline q15_t foc_sin_fold_q15(uint16_t angle)
-{
-    uint16_t x = (uint16_t)(angle & 32767u);
-    if (x > 16384u) {
-        x = (uint16_t)(32768u - x);
-    }
-    const q15_t s = foc_quarter_sin_q15(x);
-    return ((angle & 32768u) != 0u) ? (q15_t)-s : s;
-}
-
-/* sin and cos of one angle, Q15 (cos(x) = sin(x + 90 deg)). */
+/* sin and cos of one angle, Q15.  With p the position inside the
+ * quadrant, they are sin(p) and cos(p) = sin(90 deg - p), turned by the
+ * quadrant: a quarter turn maps (sin, cos) to (cos, -sin), a half turn
+ * negates both. */
 static inline foc_sincos_t foc_sincos_q15(uint16_t angle)
 {
+    const uint16_t p = (uint16_t)(angle & 16383u);
+    q15_t s = foc_quarter_sin_q15(p);
+    q15_t c = foc_quarter_sin_q15((uint16_t)(16384u - p));
+    if ((angle & 16384u) != 0u) {
+        const q15_t t = s;
+        s = c;
+        c = (q15_t)-t;
+    }
+    if ((angle & 32768u) != 0u) {
+        s = (q15_t)-s;
+        c = (q15_t)-c;
+    }
     foc_sincos_t r;
-    r.sin = foc_sin_fold_q15(angle);
-    r.cos = foc_sin_fold_q15((uint16_t)(angle + 16384u));
+    r.sin = s;
+    r.cos = c;
     return r;
 }
 
 /* sin(angle), Q15. */
 static inline q15_t foc_sin_q15(uint16_t angle)
 {
-    return foc_sin_fold_q15(angle);
+    return foc_sincos_q15(angle).sin;
 }
 
 /* cos(angle), Q15. */
 static inline q15_t foc_cos_q15(uint16_t angle)
 {
-    return foc_sin_fold_q15((uint16_t)(angle + 16384u));
+    return foc_sincos_q15(angle).cos;
 }
 
 /* Angle of the vector (x, y), same scaling as above; (0, 0) gives 0.

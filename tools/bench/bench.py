@@ -714,19 +714,33 @@ def scenario_rows(w, frames, fast_of, scenarios):
 
 
 def write_line_profile(elf, prof, path):
-    """Cycles per source line of the target's fast step (inlined code at
-    its own line; taken-branch refills not included), most first."""
+    """Cycles per source line of the target's fast step, most first: each
+    instruction at its own line (inlined code at the header's line), then
+    at the line of the function it was inlined into (a statement's cost
+    with what it inlines).  Taken-branch refills are not included."""
     addrs = sorted(prof["insn_cycles"])
-    out = subprocess.run(["arm-none-eabi-addr2line", "-e", elf] + ["0x%x" % x for x in addrs],
+    out = subprocess.run(["arm-none-eabi-addr2line", "-a", "-i", "-e", elf]
+                         + ["0x%x" % x for x in addrs],
                          capture_output=True, text=True, check=True).stdout.split("\n")
-    per_line = {}
-    for x, loc in zip(addrs, out):
-        loc = loc.split(" (")[0]
-        per_line[loc] = per_line.get(loc, 0) + prof["insn_cycles"][x]
+    own, outer = {}, {}
+    k = 0
+    for x in addrs:
+        while not out[k].startswith("0x"):
+            k += 1
+        k += 1
+        frames = []
+        while k < len(out) and out[k] and not out[k].startswith("0x"):
+            frames.append(out[k].split(" (")[0])
+            k += 1
+        c = prof["insn_cycles"][x]
+        own[frames[0]] = own.get(frames[0], 0) + c
+        outer[frames[-1]] = outer.get(frames[-1], 0) + c
     n = max(prof["target_calls"], 1)
     with open(path, "w") as f:
-        for loc, c in sorted(per_line.items(), key=lambda kv: -kv[1]):
-            f.write("%8.1f  %s\n" % (c / n, loc))
+        for title, table in (("own line", own), ("line of the calling function", outer)):
+            f.write("# cycles per fast step by %s\n" % title)
+            for loc, c in sorted(table.items(), key=lambda kv: -kv[1]):
+                f.write("%8.1f  %s\n" % (c / n, loc))
 
 
 def cmd_report(a):
