@@ -336,5 +336,13 @@ fuzz-cov: $(FUZZ_OUT)/controller/coverage $(FUZZ_OUT)/monitor/coverage \
 static check-static:
 	sh tests/quality/static.sh
 
+# The figures of issue 11 may not grow: tools/bench/gates.txt holds each
+# one's ceiling (the target where it is met, else the figure measured when
+# the gate was set); more than 5 % above fails.
 check-bench: bench
 	@grep -q '^replay_mismatches=0$$' $(BENCH_OUT)/report.txt
+	$(MAKE) --no-print-directory stm32
+	@arm-none-eabi-size $(STM32_NAME).elf | awk 'NR == 2 { print "image_flash_bytes=" $$1 + $$2 }' \
+	    > $(BENCH_OUT)/image.txt
+	/usr/bin/python3 tools/bench/bench.py gate --report $(BENCH_OUT)/report.txt \
+	    --report $(BENCH_OUT)/image.txt --gates tools/bench/gates.txt
