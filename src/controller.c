@@ -125,12 +125,13 @@ static q15_t forced_vq(q15_t speed, q15_t id)
     return foc_add_q15(emf, coupling);
 }
 
-/* The current loop on angle `theta` turning at `speed`: every period in
- * ALIGN, OPENLOOP, RUN, STOP and BRAKE (until the windings are shorted);
+/* The current loop on the forced angle (start-up) or the estimate: every
+ * period in ALIGN, OPENLOOP, RUN, STOP and BRAKE (until the windings are
+ * shorted);
  * in the forced frame of the start-up the q axis is voltage-driven
  * (foc_cc_q_forced: damping).  The estimator runs on every period so that
  * it has converged by the hand-over. */
-static void current_loop(foc_ctrl_t *c, uint16_t theta, q15_t speed, uint8_t forced)
+static void current_loop(foc_ctrl_t *c, uint8_t forced)
 {
     const foc_ab_t i_last = c->i_ab;
     c->i_ab = foc_cs_alphabeta(&c->current_sense, &c->samples, c->i_ab);
@@ -149,6 +150,10 @@ static void current_loop(foc_ctrl_t *c, uint16_t theta, q15_t speed, uint8_t for
     const foc_est_input_t in = { v_applied, c->i_ab, c->i_ref.q, c->samples.theta_sensor };
     foc_est_step(&c->est, &in);
     c->v_ab_prev = c->v_ab;
+
+    /* The angle of this sample: forced, or the estimate just made. */
+    const uint16_t theta = (forced != 0u) ? foc_startup_angle(&c->startup) : c->est.theta;
+    const q15_t speed = (forced != 0u) ? c->startup.speed : c->est.speed;
 
     c->i_dq = foc_park_q15(c->i_ab, foc_sincos_q15(theta));
     /* d first, with the whole voltage: AN1292's d-axis priority */
@@ -196,16 +201,15 @@ void foc_fast_step(foc_ctrl_t *c)
     case FOC_STATE_ALIGN:
     case FOC_STATE_OPENLOOP:
         foc_startup_fast(&c->startup);
-        current_loop(c, foc_startup_angle(&c->startup), c->startup.speed, 1u);
-        break;
-    case FOC_STATE_BRAKE:
-        if (c->shorting == 0u) {
-            current_loop(c, c->est.theta, c->est.speed, 0u);
-        }
+        current_loop(c, 1u);
         break;
     case FOC_STATE_RUN:
     case FOC_STATE_STOP:
-        current_loop(c, c->est.theta, c->est.speed, 0u);
+    case FOC_STATE_BRAKE:
+        /* (BRAKE: until the windings are shorted) */
+        if (c->shorting == 0u) {
+            current_loop(c, 0u);
+        }
         break;
     default:
         break;
