@@ -79,6 +79,7 @@ static void reset_run_state(foc_ctrl_t *c)
     c->start_ticks = 0;
     c->unreliable_ticks = 0;
     c->emf_low_ticks = 0;
+    foc_sup_run_reset(&c->sup);
 }
 
 void foc_init(foc_ctrl_t *c)
@@ -103,6 +104,7 @@ void foc_init(foc_ctrl_t *c)
     foc_fw_init(&c->fw);
     foc_bus_init(&c->bus, FOC_VDC_NOMINAL);
     foc_protection_init(&c->protection);
+    foc_sup_init(&c->sup);
     foc_speed_stats_reset(&c->speed_stats);
     foc_startup_begin(&c->startup, 1);
     c->est.kind = FOC_ESTIMATOR;
@@ -397,14 +399,30 @@ static void run_tick(foc_ctrl_t *c)
             hand_over(c, c->est.theta);
         }
     }
+    /* start_ticks, unused in RUN, times a reversal's ramp down */
+    q15_t target = c->req.speed;
     if (reversing(c)) {
+        target = 0;
         speed_loop(c, 0);
         if (foc_abs_q15(c->est.speed) <= (q15_t)(FOC_STARTUP_MIN_SPEED / 2)) {
             begin_start(c);
             return;
         }
+        if (c->start_ticks >= FOC_RAMP_DOWN_TICKS) {
+            trip(c, (uint16_t)FOC_FAULT_SPEED_FEEDBACK); /* it does not slow down */
+            return;
+        }
     } else {
-        speed_loop(c, c->req.speed);
+        c->start_ticks = 0;
+        speed_loop(c, target);
+    }
+    const uint16_t faults =
+        (uint16_t)(foc_sup_overspeed(&c->sup, c->est.speed) |
+                   foc_sup_follow(&c->sup, target, c->est.speed, c->i_ref.q,
+                                  c->speed_ctrl.pi.out_max));
+    if (faults != 0u) {
+        trip(c, faults);
+        return;
     }
     stall_check(c);
     if (c->state == FOC_STATE_RUN && c->req.stop != 0u) {
@@ -427,6 +445,11 @@ static void brake_tick(foc_ctrl_t *c)
         c->shorting = 1;
         c->state_ticks = 0;
         foc_port_low_sides_on();
+    } else if (c->state_ticks >= FOC_RAMP_DOWN_TICKS) {
+        /* it does not slow down: shorting now could exceed the current
+         * limit, so let it coast */
+        outputs_off(c);
+        enter(c, FOC_STATE_IDLE);
     }
 }
 
@@ -443,7 +466,9 @@ static void fault_tick(foc_ctrl_t *c)
         return;
     }
     foc_port_overcurrent_clear();
-    if (foc_port_overcurrent_latched() == 0u &&
+    const uint8_t cooled = (uint8_t)((c->faults.active & (uint16_t)FOC_FAULT_MOTOR_OVERLOAD) == 0u ||
+                                     foc_sup_cooled(&c->sup) != 0u);
+    if (foc_port_overcurrent_latched() == 0u && cooled != 0u &&
         foc_protection_causes_gone(&c->protection, c->faults.active, c->samples.vdc,
                                    c->samples.temp) != 0u) {
         foc_faults_clear(&c->faults);
@@ -483,8 +508,10 @@ static void state_machine(foc_ctrl_t *c)
         break;
     case FOC_STATE_STOP:
         speed_loop(c, 0);
-        if (c->speed_ctrl.ramped == 0 &&
-            foc_abs_q15(c->est.speed) <= FOC_STOP_SPEED) {
+        /* down to the stop speed, or (an estimate that never settles) out
+         * of time: outputs off either way */
+        if ((c->speed_ctrl.ramped == 0 && foc_abs_q15(c->est.speed) <= FOC_STOP_SPEED) ||
+            c->state_ticks >= FOC_RAMP_DOWN_TICKS) {
             outputs_off(c);
             enter(c, FOC_STATE_IDLE);
         }
@@ -511,7 +538,12 @@ void foc_slow_step(foc_ctrl_t *c)
     if (c->start_ticks < UINT16_MAX) {
         c->start_ticks++;
     }
-    const uint16_t faults = foc_protection_check(&c->protection, c->samples.vdc, c->samples.temp);
+    /* the winding heats with the current of the loop, cools otherwise */
+    const uint8_t loop_on = (uint8_t)(c->state >= FOC_STATE_ALIGN && c->state <= FOC_STATE_BRAKE &&
+                                      c->shorting == 0u);
+    const uint16_t faults =
+        (uint16_t)(foc_protection_check(&c->protection, c->samples.vdc, c->samples.temp) |
+                   foc_sup_thermal(&c->sup, loop_on ? c->i_dq : zero_dq));
     if (faults != 0u) {
         if (c->state != FOC_STATE_FAULT) {
             trip(c, faults);
@@ -541,7 +573,10 @@ void foc_cmd_ack(foc_ctrl_t *c)
 
 void foc_cmd_speed(foc_ctrl_t *c, q15_t speed)
 {
-    c->req.speed = speed;
+    /* never beyond the motor's maximum speed, whatever is asked */
+    c->req.speed = (speed > FOC_MAX_SPEED)    ? FOC_MAX_SPEED
+                   : (speed < -FOC_MAX_SPEED) ? (q15_t)-FOC_MAX_SPEED
+                                              : speed;
 }
 
 const char *foc_state_name(foc_state_t s)

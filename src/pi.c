@@ -10,7 +10,6 @@ void foc_pi_init(foc_pi_q15_t *pi, q15_t kp, uint8_t kp_shift, q15_t ki,
     pi->kp = kp;
     pi->kp_shift = kp_shift;
     pi->kp_rshift = (uint8_t)(15u - kp_shift);
-    pi->kp_round = (pi->kp_rshift == 0u) ? 0 : ((int32_t)1 << (pi->kp_rshift - 1u));
     pi->ki = ki;
     pi->ki_shift = ki_shift;
     pi->kc = kc;

@@ -577,4 +577,55 @@ FOC_STATIC_ASSERT(FOC_FW_POS_GAIN_PU < 32768.0, "FW_END_RPM - FW_START_RPM too s
 FOC_STATIC_ASSERT(STOP_SPEED_RPM >= 0.0 && STOP_SPEED_RPM < SPEED_BASE_RPM,
                   "STOP_SPEED_RPM out of range");
 
+/* ------------------------------------------------------- supervision -- */
+/* Defaults for parameters older userparms.h files do not have. */
+#ifndef MOTOR_THERMAL_TIME_S
+#define MOTOR_THERMAL_TIME_S 20.0 /* winding thermal time constant, s */
+#endif
+#ifndef OVERSPEED_MARGIN
+#define OVERSPEED_MARGIN 0.2 /* overspeed fault above (1 + margin) x max speed */
+#endif
+/* The speed command is clamped to +-MOTOR_MAX_SPEED_RPM. */
+#define FOC_MAX_SPEED FOC_SPEED_Q15(MOTOR_MAX_SPEED_RPM)
+#define FOC_OVERSPEED FOC_SPEED_Q15(MOTOR_MAX_SPEED_RPM * (1.0 + OVERSPEED_MARGIN))
+#define FOC_OVERSPEED_TICKS FOC_TICKS(0.002)
+/* I2t: (I / I_rated)^2, Q20 (1.0 = rated), from the Q15 sum of squares of
+ * the dq current (1.0 = I_base^2): x 2^5 (I_base / I_rated)^2 as a
+ * normalised constant (I_base / I_rated up to 22); filtered with
+ * k = Ts_slow / tau, Q30.  Trips at 1.0 (the rated current held for ever
+ * never trips; 1.5 x rated after 0.59 tau), acknowledged below 0.5. */
+#define FOC_I2T_X (32.0 * (FOC_I_BASE_A / MOTOR_RATED_CURRENT_A) *                 \
+                   (FOC_I_BASE_A / MOTOR_RATED_CURRENT_A))
+#define FOC_I2T_MANT FOC_NORM_MANT(FOC_I2T_X)
+#define FOC_I2T_RSHIFT FOC_NORM_RSHIFT(FOC_I2T_X)
+#define FOC_I2T_K_Q30 ((int32_t)(FOC_SLOW_TS_S / MOTOR_THERMAL_TIME_S * 1073741824.0 + 0.5))
+#define FOC_I2T_TRIP ((int32_t)1 << 20)
+#define FOC_I2T_CLEAR ((int32_t)1 << 19)
+/* A rotor that does not follow: the speed loop at its current limit, the
+ * speed below half the command and not gaining on it, for this long
+ * (above and below 10 % of the maximum speed; the speed loop needs some
+ * tens of ms to reach its limit, inside the 200 / 500 ms of docs/safety.md). */
+#define FOC_FOLLOW_FAST_TICKS FOC_TICKS(0.12)
+#define FOC_FOLLOW_SLOW_TICKS FOC_TICKS(0.40)
+#define FOC_FOLLOW_SPEED_SPLIT FOC_SPEED_Q15(0.1 * MOTOR_MAX_SPEED_RPM)
+#define FOC_FOLLOW_PROGRESS FOC_SPEED_Q15(0.01 * MOTOR_MAX_SPEED_RPM + 1.0)
+/* Transitional states end within their time (else coast, or a fault):
+ * STOP and BRAKE the ramp from the maximum speed plus 0.5 s, a reversal's
+ * ramp down the same. */
+#define FOC_RAMP_DOWN_TICKS                                                    \
+    FOC_TICKS(MOTOR_MAX_SPEED_RPM / SPEED_RAMP_RPM_PER_S + 0.5)
+
+FOC_STATIC_ASSERT(MOTOR_THERMAL_TIME_S > 0.0 && FOC_I2T_K_Q30 >= 1 &&
+                  FOC_I2T_K_Q30 < 1073741824,
+                  "MOTOR_THERMAL_TIME_S out of range (0, 10^5 s]");
+FOC_STATIC_ASSERT(MOTOR_RATED_CURRENT_A > 0.0 && MOTOR_RATED_CURRENT_A <= FOC_I_BASE_A &&
+                  FOC_NORM_OK(FOC_I2T_X),
+                  "MOTOR_RATED_CURRENT_A must be in [BOARD_CURRENT_FULL_SCALE_A / 22, "
+                  "BOARD_CURRENT_FULL_SCALE_A]");
+FOC_STATIC_ASSERT(OVERSPEED_MARGIN > 0.0 &&
+                  MOTOR_MAX_SPEED_RPM * (1.0 + OVERSPEED_MARGIN) < SPEED_BASE_RPM,
+                  "OVERSPEED_MARGIN must be > 0 with (1 + margin) x max speed below "
+                  "SPEED_BASE_RPM");
+FOC_STATIC_ASSERT(FOC_RAMP_DOWN_TICKS < 65000, "SPEED_RAMP_RPM_PER_S too slow");
+
 #endif /* FOC_CONFIG_H */

@@ -50,6 +50,7 @@
 #include "foc/speed_ctrl.h"
 #include "foc/speed_stats.h"
 #include "foc/startup.h"
+#include "foc/supervision.h"
 
 struct foc_scope; /* foc/scope.h: capture and debug-output selection */
 
@@ -116,6 +117,7 @@ typedef struct {
     foc_startup_t startup;
     foc_speed_stats_t speed_stats;
     foc_protection_t protection;
+    foc_supervision_t sup;
 
     int8_t direction;       /* +1 / -1: direction of the present run */
     uint8_t converged_ticks; /* consecutive start-up convergence tests */

@@ -15,7 +15,9 @@ typedef enum {
     FOC_FAULT_UNDERVOLTAGE = 1u << 2,
     FOC_FAULT_OVERTEMP = 1u << 3,
     FOC_FAULT_STARTUP_FAILED = 1u << 4,
-    FOC_FAULT_SPEED_FEEDBACK = 1u << 5
+    FOC_FAULT_SPEED_FEEDBACK = 1u << 5, /* the rotor does not follow */
+    FOC_FAULT_OVERSPEED = 1u << 6,
+    FOC_FAULT_MOTOR_OVERLOAD = 1u << 7  /* I2t: the winding would overheat */
 } foc_fault_t;
 
 typedef struct {

@@ -31,7 +31,6 @@ typedef struct {
     q15_t kp;          /* proportional gain mantissa, Q15 */
     uint8_t kp_shift;  /* proportional gain exponent, 0..15 */
     uint8_t kp_rshift; /* 15 - kp_shift: the product's right shift */
-    int32_t kp_round;  /* half an LSB of that shift (0 for no shift) */
     q15_t ki;          /* integral gain per execution, mantissa, Q15 */
     uint8_t ki_shift;  /* integral gain exponent, 0..15 */
     q15_t kc;          /* anti-windup back-calculation gain, Q15 */
@@ -98,7 +97,8 @@ static inline void foc_pi_preset(foc_pi_q15_t *pi, q15_t y0)
  * shifted right by 15 - kp_shift, rounded; |Kp e| <= 2^30. */
 static inline int32_t foc_pi_unsat(const foc_pi_q15_t *pi, q15_t e)
 {
-    const int32_t prop = ((int32_t)pi->kp * (int32_t)e + pi->kp_round) >> pi->kp_rshift;
+    const int32_t half = ((int32_t)1 << pi->kp_rshift) >> 1; /* 0 for no shift */
+    const int32_t prop = ((int32_t)pi->kp * (int32_t)e + half) >> pi->kp_rshift;
     return (pi->integ >> 15) + prop;
 }
 

@@ -83,15 +83,16 @@ static void case_id_stays_zero(void)
 }
 
 /* A load the motor cannot carry within the current limit (0.2 Nm needs
- * about 3.3 A at Kt = 0.06 Nm/A): the speed loop saturates and the phase
- * current must stay within the limit; once the load goes, the speed comes
- * back (no windup). */
+ * about 3.3 A at Kt = 0.06 Nm/A), for 60 ms: the speed loop saturates and
+ * the phase current must stay within the limit; once the load goes, the
+ * speed comes back (no windup).  (Held longer, the rotor stalls and the
+ * drive faults: case_overload_stall.) */
 static void case_current_limit_holds(void)
 {
     run_t r;
-    run_scenario("0 start\n0.1 speed 2000\n0.4 load 0.2\n0.6 load 0\n0.9 end\n",
+    run_scenario("0 start\n0.1 speed 2000\n0.4 load 0.2\n0.46 load 0\n0.9 end\n",
                  FOC_EST_SENSORED, &r);
-    const double back = run_last_outside(&r, 0.6, 0.9, 2000.0, 20.0) - 0.6;
+    const double back = run_last_outside(&r, 0.46, 0.9, 2000.0, 20.0) - 0.46;
     printf("overload: peak phase current %.3f A (limit %.3f A); speed back within 1 %% "
            "%.1f ms after the load goes\n",
            r.peak_current_a, CURRENT_LIMIT_A, back * 1e3);
@@ -101,6 +102,31 @@ static void case_current_limit_holds(void)
              r.peak_current_a, 1.05 * CURRENT_LIMIT_A);
     TK_CHECK(back <= 0.2, "speed not back within 1 %% 200 ms after the overload (%.1f ms)",
              back * 1e3);
+    run_free(&r);
+}
+
+/* The same load held: the rotor stalls (the plant's speed below 5 % of the
+ * command) and the drive must say so, SPEED_FEEDBACK within 200 ms of the
+ * stall (docs/safety.md), outputs off, the current within the limit. */
+static void case_overload_stall(void)
+{
+    run_t r;
+    run_scenario("0 start\n0.1 speed 2000\n0.4 load 0.2\n1.4 end\n", FOC_EST_SENSORED, &r);
+    double t_stall = -1.0;
+    for (size_t k = 0; k < r.n; k++) {
+        if (r.rows[k].t_s >= 0.4 && fabs(r.rows[k].speed_rpm) < 100.0) {
+            t_stall = r.rows[k].t_s;
+            break;
+        }
+    }
+    const double t_fault = run_first_fault(&r, 0.4, "SPEED_FEEDBACK");
+    printf("held overload: stalled at %.3f s, SPEED_FEEDBACK at %.3f s (%.1f ms), peak %.3f A\n",
+           t_stall, t_fault, (t_fault - t_stall) * 1e3, r.peak_current_a);
+    TK_CHECK(t_stall > 0.0, "the rotor did not stall");
+    TK_CHECK(t_fault > 0.0 && t_fault - t_stall <= 0.2, "fault %.3f s after the stall",
+             t_fault - t_stall);
+    TK_CHECK(r.peak_current_a <= 1.05 * CURRENT_LIMIT_A, "peak %.3f A", r.peak_current_a);
+    TK_CHECK(run_max_phase_current(&r, t_fault + 0.005, 1.4) < 0.01, "outputs not off");
     run_free(&r);
 }
 
@@ -171,5 +197,6 @@ static void case_stop_turns_outputs_off(void)
 
 TK_CASES(TK_CASE(case_speed_steps), TK_CASE(case_load_step_recovery),
          TK_CASE(case_id_stays_zero), TK_CASE(case_current_limit_holds),
+         TK_CASE(case_overload_stall),
          TK_CASE(case_reversal), TK_CASE(case_bus_compensation),
          TK_CASE(case_overcurrent_latch_and_restart), TK_CASE(case_stop_turns_outputs_off))

@@ -1,0 +1,78 @@
+#include "foc/supervision.h"
+#include "foc/config.h"
+#include "foc/faults.h"
+
+void foc_sup_init(foc_supervision_t *s)
+{
+    s->heat = 0;
+    foc_sup_run_reset(s);
+}
+
+void foc_sup_run_reset(foc_supervision_t *s)
+{
+    s->follow_ticks = 0;
+    s->follow_speed = 0;
+    s->overspeed_ticks = 0;
+}
+
+uint16_t foc_sup_thermal(foc_supervision_t *s, foc_dq_t i_dq)
+{
+    /* id^2 + iq^2 (Q30, <= 2^31) as Q15 of I_base^2, at most 1.0 (the ADC
+     * measures no more), then (I / I_rated)^2 in Q20 (<= 2^29). */
+    const uint32_t sq = (uint32_t)((int32_t)i_dq.d * i_dq.d) + (uint32_t)((int32_t)i_dq.q * i_dq.q);
+    const q15_t x15 = (sq >= (uint32_t)32767 << 15) ? Q15_MAX : (q15_t)(sq >> 15);
+    const int32_t target = foc_mul_norm32(x15, FOC_I2T_MANT, FOC_I2T_RSHIFT);
+    /* heat += (target - heat) Ts / tau: |difference| < 2^30 times a Q30
+     * constant needs 64 bits (once per slow tick). */
+    s->heat += (int32_t)(((int64_t)(target - s->heat) * FOC_I2T_K_Q30) >> 30);
+    return (s->heat >= FOC_I2T_TRIP) ? (uint16_t)FOC_FAULT_MOTOR_OVERLOAD : 0u;
+}
+
+uint8_t foc_sup_cooled(const foc_supervision_t *s)
+{
+    return (uint8_t)(s->heat < FOC_I2T_CLEAR);
+}
+
+uint16_t foc_sup_overspeed(foc_supervision_t *s, q15_t speed)
+{
+    if (foc_abs_q15(speed) > FOC_OVERSPEED) {
+        if (s->overspeed_ticks < UINT8_MAX) {
+            s->overspeed_ticks++;
+        }
+    } else {
+        s->overspeed_ticks = 0;
+    }
+    return (s->overspeed_ticks >= FOC_OVERSPEED_TICKS) ? (uint16_t)FOC_FAULT_OVERSPEED : 0u;
+}
+
+uint16_t foc_sup_follow(foc_supervision_t *s, q15_t command, q15_t speed, q15_t iq_ref,
+                        q15_t iq_max)
+{
+    const q15_t cmd = foc_abs_q15(command);
+    const q15_t w = foc_abs_q15(speed);
+    /* at the limit: within 1/8 of it; a limit near zero (field weakening
+     * took the current) counts as at the limit */
+    const uint8_t limited = (uint8_t)((int32_t)foc_abs_q15(iq_ref) * 8 >= (int32_t)iq_max * 7);
+    /* behind: below half the command, or turning the other way */
+    const uint8_t behind = (uint8_t)(cmd != 0 && ((int32_t)w * 2 < (int32_t)cmd ||
+                                                  (speed < 0) != (command < 0)));
+    if (limited == 0u || behind == 0u) {
+        s->follow_ticks = 0;
+        return 0u;
+    }
+    if (s->follow_ticks == 0u) {
+        s->follow_speed = w;
+    }
+    s->follow_ticks++;
+    const uint16_t window =
+        (cmd >= FOC_FOLLOW_SPEED_SPLIT) ? FOC_FOLLOW_FAST_TICKS : FOC_FOLLOW_SLOW_TICKS;
+    if (s->follow_ticks < window) {
+        return 0u;
+    }
+    /* a window over: gaining (a heavy load accelerating at the limit)
+     * starts another, not gaining is a rotor that does not follow */
+    s->follow_ticks = 0;
+    const uint8_t gaining = (uint8_t)((int32_t)w - s->follow_speed >= FOC_FOLLOW_PROGRESS &&
+                                      (speed < 0) == (command < 0));
+    return gaining ? 0u : (uint16_t)FOC_FAULT_SPEED_FEEDBACK;
+}
