@@ -183,7 +183,26 @@ static double source_r_ohm(const pmsm_model_t *m)
     return SOURCE_R_OHM > r_min_ohm ? SOURCE_R_OHM : r_min_ohm;
 }
 
-static void integ_init(integ_t *c, const pmsm_model_t *m, double theta_e_rad)
+/* cos and sin of the state's angle at the start of a period, computed
+ * once for pmsm_sample and pmsm_step_period (and the host's probes). */
+static void start_cos_sin(pmsm_model_t *m, double *co, double *si)
+{
+    if (!m->trig_valid || m->trig_theta != m->s.theta_e_rad) {
+        m->trig_theta = m->s.theta_e_rad;
+        m->trig_cos = cos(m->trig_theta);
+        m->trig_sin = sin(m->trig_theta);
+        m->trig_valid = 1;
+    }
+    *co = m->trig_cos;
+    *si = m->trig_sin;
+}
+
+void pmsm_cos_sin(pmsm_model_t *m, double *cos_theta, double *sin_theta)
+{
+    start_cos_sin(m, cos_theta, sin_theta);
+}
+
+static void integ_init(integ_t *c, pmsm_model_t *m, double theta_e_rad)
 {
     const pmsm_params_t *p = &m->p;
     const double l_h = 0.5 * (p->ld_h + p->lq_h);
@@ -195,7 +214,12 @@ static void integ_init(integ_t *c, const pmsm_model_t *m, double theta_e_rad)
     c->inv_j = 1.0 / p->j_kgm2;
     c->inv_cap = p->bus_cap_f > 0.0 ? 1.0 / p->bus_cap_f : 0.0;
     c->inv_source_r = p->bus_cap_f > 0.0 ? 1.0 / source_r_ohm(m) : 0.0;
-    integ_rebase(c, theta_e_rad);
+    if (theta_e_rad == m->s.theta_e_rad) {
+        c->theta0 = theta_e_rad;
+        start_cos_sin(m, &c->c0, &c->s0);
+    } else {
+        integ_rebase(c, theta_e_rad);
+    }
 }
 
 MODEL_INLINE void small_rotation(double d, double *cd, double *sd)
@@ -424,11 +448,114 @@ MODEL_INLINE void rk4_step(const integ_t *c, const discrete_mode_t *dm,
     }
 }
 
+/* The switching bridge's derivative (derivative() with pwm = 1, the same
+ * operations in the same order) with everything that is constant over an
+ * RK4 step loaded once: this case is nearly all of a simulation's time. */
+typedef struct {
+    const integ_t *c;
+    double duty[PHASES];
+    double rs, ld, lq, flux, pp, b, inv_j, fric_motion, torque_k, ld_lq;
+    double inv_band;      /* stiff bus: for the step's (constant) voltage */
+    int stiff_bus;
+    int theta_moves;      /* rotor not locked */
+    int wm_moves;         /* free rotor in motion */
+    const pmsm_params_t *p;
+    const pmsm_model_t *m;
+} pwm_step_t;
+
+MODEL_INLINE void derivative_pwm(const pwm_step_t *k, const double x[X_COUNT],
+                                 double dx[X_COUNT])
+{
+    const integ_t *c = k->c;
+    const double id = x[X_ID];
+    const double iq = x[X_IQ];
+    const double we = k->pp * x[X_WM];
+    const double vdc = x[X_VDC];
+    double co;
+    double si;
+    integ_cos_sin(c, x[X_THETA], &co, &si);
+    const double i_alpha = id * co - iq * si;
+    const double i_beta = id * si + iq * co;
+    const double half_sqrt3 = 0.5 * SQRT3;
+    const double i_ph[PHASES] = { i_alpha, -0.5 * i_alpha + half_sqrt3 * i_beta,
+                                  -0.5 * i_alpha - half_sqrt3 * i_beta };
+    const double inv_band = k->stiff_bus ? k->inv_band : deadtime_inv_band(c, vdc);
+    double bus_current_a = 0.0;
+    double v_ph[PHASES];
+    for (int ph = 0; ph < PHASES; ph++) {
+        const double duty_eff = clamp01(k->duty[ph] - deadtime_fraction(c, inv_band, i_ph[ph]));
+        v_ph[ph] = vdc * duty_eff;
+        bus_current_a += duty_eff * i_ph[ph];
+    }
+    const double v_alpha = (2.0 / 3.0) * (v_ph[0] - 0.5 * (v_ph[1] + v_ph[2]));
+    const double v_beta = (1.0 / SQRT3) * (v_ph[1] - v_ph[2]);
+    const double ud = v_alpha * co + v_beta * si;
+    const double uq = -v_alpha * si + v_beta * co;
+    const double hold_d = k->rs * id - we * k->lq * iq;
+    const double hold_q = k->rs * iq + we * (k->ld * id + k->flux);
+    dx[X_ID] = (ud - hold_d) * c->inv_ld;
+    dx[X_IQ] = (uq - hold_q) * c->inv_lq;
+    dx[X_THETA] = k->theta_moves ? k->pp * x[X_WM] : 0.0;
+    dx[X_WM] = 0.0;
+    if (k->wm_moves) {
+        const double te = k->torque_k * (k->flux * iq + k->ld_lq * id * iq);
+        dx[X_WM] = (te - k->b * x[X_WM] - k->fric_motion) * c->inv_j;
+    }
+    dx[X_VDC] = 0.0;
+    if (!k->stiff_bus) {
+        const pmsm_params_t *p = k->p;
+        const double i_source = fmax(0.0, (p->vdc_source_v - vdc) * c->inv_source_r);
+        const double i_brake = k->m->brake_resistor_on ? vdc / p->brake_r_ohm : 0.0;
+        dx[X_VDC] = (i_source - bus_current_a - i_brake) * c->inv_cap;
+    }
+    dx[X_VD_INT] = ud;
+    dx[X_VQ_INT] = uq;
+}
+
+static void rk4_pwm(const integ_t *c, const discrete_mode_t *dm,
+                    const double x[X_COUNT], double h, double out[X_COUNT])
+{
+    const pmsm_model_t *m = c->m;
+    const pmsm_params_t *p = &m->p;
+    pwm_step_t k;
+    k.c = c;
+    k.m = m;
+    k.p = p;
+    for (int ph = 0; ph < PHASES; ph++) {
+        k.duty[ph] = m->duty[ph];
+    }
+    k.rs = p->rs_ohm;
+    k.ld = p->ld_h;
+    k.lq = p->lq_h;
+    k.flux = p->flux_wb;
+    k.pp = p->pole_pairs;
+    k.b = p->b_nm_per_rad_s;
+    k.inv_j = c->inv_j;
+    k.fric_motion = friction_nm(m) * dm->motion;
+    k.torque_k = 1.5 * p->pole_pairs;
+    k.ld_lq = p->ld_h - p->lq_h;
+    k.stiff_bus = !(p->bus_cap_f > 0.0);
+    k.inv_band = deadtime_inv_band(c, x[X_VDC]);
+    k.theta_moves = m->rotor != PMSM_ROTOR_LOCKED;
+    k.wm_moves = m->rotor == PMSM_ROTOR_FREE && dm->motion != 0;
+    double k1[X_COUNT], k2[X_COUNT], k3[X_COUNT], k4[X_COUNT], tmp[X_COUNT];
+    derivative_pwm(&k, x, k1);
+    for (int n = 0; n < X_COUNT; n++) tmp[n] = x[n] + 0.5 * h * k1[n];
+    derivative_pwm(&k, tmp, k2);
+    for (int n = 0; n < X_COUNT; n++) tmp[n] = x[n] + 0.5 * h * k2[n];
+    derivative_pwm(&k, tmp, k3);
+    for (int n = 0; n < X_COUNT; n++) tmp[n] = x[n] + h * k3[n];
+    derivative_pwm(&k, tmp, k4);
+    for (int n = 0; n < X_COUNT; n++) {
+        out[n] = x[n] + h / 6.0 * (k1[n] + 2.0 * k2[n] + 2.0 * k3[n] + k4[n]);
+    }
+}
+
 static void rk4(const integ_t *c, const discrete_mode_t *dm,
                 const double x[X_COUNT], double h, double out[X_COUNT])
 {
     if (c->m->bridge == PMSM_BRIDGE_PWM) {
-        rk4_step(c, dm, x, h, out, 1);
+        rk4_pwm(c, dm, x, h, out);
     } else {
         rk4_step(c, dm, x, h, out, 0);
     }
@@ -569,11 +696,31 @@ static int first_crossing(const integ_t *c, const discrete_mode_t *dm,
                           const double x0[X_COUNT], const double x1[X_COUNT],
                           double *fraction)
 {
+    const pmsm_model_t *m = c->m;
+    *fraction = 1.0;
+    if (m->bridge != PMSM_BRIDGE_OFF) {
+        /* only the rotor's guard can be crossed (guards() with the bridge
+         * driven, without its other, zero, entries) */
+        if (m->rotor != PMSM_ROTOR_FREE) {
+            return -1;
+        }
+        double g[2];
+        for (int k = 0; k < 2; k++) {
+            const double *xk = k == 0 ? x0 : x1;
+            g[k] = dm->motion != 0
+                       ? dm->motion * xk[X_WM]
+                       : friction_nm(m) - fabs(pmsm_torque(&m->p, xk[X_ID], xk[X_IQ]));
+        }
+        if (g[0] > 0.0 && g[1] <= 0.0) {
+            *fraction = g[0] / (g[0] - g[1]);
+            return GUARD_ROTOR;
+        }
+        return -1;
+    }
     double g0[GUARD_COUNT], g1[GUARD_COUNT];
     guards(c, dm, x0, g0);
     guards(c, dm, x1, g1);
     int first = -1;
-    *fraction = 1.0;
     for (int k = 0; k < GUARD_COUNT; k++) {
         if (g0[k] > 0.0 && g1[k] <= 0.0) {
             const double f = g0[k] / (g0[k] - g1[k]);
@@ -787,7 +934,7 @@ static double gaussian(uint32_t *state)
 static int32_t adc_code(const pmsm_params_t *p, int ph, double i_a,
                         double noise_codes)
 {
-    const double half_scale = ldexp(1.0, p->adc_bits - 1);
+    const double half_scale = (double)(1L << (p->adc_bits - 1)); /* 2^(bits-1), exact */
     const double full_code = 2.0 * half_scale - 1.0;
     const double ideal = half_scale +
                          i_a * (1.0 + p->gain_error[ph]) / p->current_fs_a *
@@ -800,7 +947,10 @@ static int32_t adc_code(const pmsm_params_t *p, int ph, double i_a,
 void pmsm_sample(pmsm_model_t *m, pmsm_sample_t *out)
 {
     const pmsm_params_t *p = &m->p;
-    const phase_axes_t ax = phase_axes(m->s.theta_e_rad);
+    double co;
+    double si;
+    start_cos_sin(m, &co, &si);
+    const phase_axes_t ax = axes_from(co, si);
     double i_ph[PHASES];
     int32_t code[PHASES];
     phase_currents(&ax, m->s.id_a, m->s.iq_a, i_ph);

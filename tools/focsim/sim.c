@@ -181,7 +181,7 @@ static double wrap_deg(double deg)
     return d < 0.0 ? d + 360.0 : d;
 }
 
-static void fill_row(const sim_t *s, const pmsm_sample_t *m, sim_row_t *r)
+static void fill_row(sim_t *s, const pmsm_sample_t *m, sim_row_t *r)
 {
     const foc_ctrl_t *c = &s->ctrl;
     const double i_base = FOC_I_BASE_A / 32768.0;
@@ -200,8 +200,16 @@ static void fill_row(const sim_t *s, const pmsm_sample_t *m, sim_row_t *r)
     /* true rotor-frame currents from the true phase currents */
     const double alpha = m->ia_a;
     const double beta = (m->ia_a + 2.0 * m->ib_a) / sqrt(3.0);
-    r->id_a = alpha * cos(th) + beta * sin(th);
-    r->iq_a = -alpha * sin(th) + beta * cos(th);
+    double co;
+    double si;
+    if (th == s->model.s.theta_e_rad) {
+        pmsm_cos_sin(&s->model, &co, &si); /* the model's, computed once a period */
+    } else {
+        co = cos(th);
+        si = sin(th);
+    }
+    r->id_a = alpha * co + beta * si;
+    r->iq_a = -alpha * si + beta * co;
     r->id_ref_a = c->i_ref.d * i_base;
     r->iq_ref_a = c->i_ref.q * i_base;
     r->vd_v = c->v_dq.d * v_base;
