@@ -463,53 +463,61 @@ typedef struct {
     const pmsm_model_t *m;
 } pwm_step_t;
 
-MODEL_INLINE void derivative_pwm(const pwm_step_t *k, const double x[X_COUNT],
-                                 double dx[X_COUNT])
+/* The switching bridge's derivative: derivative() with pwm = 1, the same
+ * operations in the same order, on scalars so that an RK4 step keeps its
+ * state in registers. */
+typedef struct {
+    double id, iq, wm, th, vdc, vd, vq;
+} pwm_dx_t;
+
+MODEL_INLINE pwm_dx_t deriv_pwm_s(const pwm_step_t *k, double id, double iq, double wm,
+                                  double th, double vdc)
 {
     const integ_t *c = k->c;
-    const double id = x[X_ID];
-    const double iq = x[X_IQ];
-    const double we = k->pp * x[X_WM];
-    const double vdc = x[X_VDC];
+    const double we = k->pp * wm;
     double co;
     double si;
-    integ_cos_sin(c, x[X_THETA], &co, &si);
+    integ_cos_sin(c, th, &co, &si);
     const double i_alpha = id * co - iq * si;
     const double i_beta = id * si + iq * co;
     const double half_sqrt3 = 0.5 * SQRT3;
-    const double i_ph[PHASES] = { i_alpha, -0.5 * i_alpha + half_sqrt3 * i_beta,
-                                  -0.5 * i_alpha - half_sqrt3 * i_beta };
+    const double i0 = i_alpha;
+    const double i1 = -0.5 * i_alpha + half_sqrt3 * i_beta;
+    const double i2 = -0.5 * i_alpha - half_sqrt3 * i_beta;
     const double inv_band = k->stiff_bus ? k->inv_band : deadtime_inv_band(c, vdc);
-    double bus_current_a = 0.0;
-    double v_ph[PHASES];
-    for (int ph = 0; ph < PHASES; ph++) {
-        const double duty_eff = clamp01(k->duty[ph] - deadtime_fraction(c, inv_band, i_ph[ph]));
-        v_ph[ph] = vdc * duty_eff;
-        bus_current_a += duty_eff * i_ph[ph];
-    }
-    const double v_alpha = (2.0 / 3.0) * (v_ph[0] - 0.5 * (v_ph[1] + v_ph[2]));
-    const double v_beta = (1.0 / SQRT3) * (v_ph[1] - v_ph[2]);
-    const double ud = v_alpha * co + v_beta * si;
-    const double uq = -v_alpha * si + v_beta * co;
+    const double d0 = clamp01(k->duty[0] - deadtime_fraction(c, inv_band, i0));
+    const double d1 = clamp01(k->duty[1] - deadtime_fraction(c, inv_band, i1));
+    const double d2 = clamp01(k->duty[2] - deadtime_fraction(c, inv_band, i2));
+    const double v0 = vdc * d0;
+    const double v1 = vdc * d1;
+    const double v2 = vdc * d2;
+    const double v_alpha = (2.0 / 3.0) * (v0 - 0.5 * (v1 + v2));
+    const double v_beta = (1.0 / SQRT3) * (v1 - v2);
+    pwm_dx_t dx;
+    dx.vd = v_alpha * co + v_beta * si;
+    dx.vq = -v_alpha * si + v_beta * co;
     const double hold_d = k->rs * id - we * k->lq * iq;
     const double hold_q = k->rs * iq + we * (k->ld * id + k->flux);
-    dx[X_ID] = (ud - hold_d) * c->inv_ld;
-    dx[X_IQ] = (uq - hold_q) * c->inv_lq;
-    dx[X_THETA] = k->theta_moves ? k->pp * x[X_WM] : 0.0;
-    dx[X_WM] = 0.0;
+    dx.id = (dx.vd - hold_d) * c->inv_ld;
+    dx.iq = (dx.vq - hold_q) * c->inv_lq;
+    dx.th = k->theta_moves ? k->pp * wm : 0.0;
+    dx.wm = 0.0;
     if (k->wm_moves) {
         const double te = k->torque_k * (k->flux * iq + k->ld_lq * id * iq);
-        dx[X_WM] = (te - k->b * x[X_WM] - k->fric_motion) * c->inv_j;
+        dx.wm = (te - k->b * wm - k->fric_motion) * c->inv_j;
     }
-    dx[X_VDC] = 0.0;
+    dx.vdc = 0.0;
     if (!k->stiff_bus) {
         const pmsm_params_t *p = k->p;
+        double bus_current_a = 0.0;
+        bus_current_a += d0 * i0;
+        bus_current_a += d1 * i1;
+        bus_current_a += d2 * i2;
         const double i_source = fmax(0.0, (p->vdc_source_v - vdc) * c->inv_source_r);
         const double i_brake = k->m->brake_resistor_on ? vdc / p->brake_r_ohm : 0.0;
-        dx[X_VDC] = (i_source - bus_current_a - i_brake) * c->inv_cap;
+        dx.vdc = (i_source - bus_current_a - i_brake) * c->inv_cap;
     }
-    dx[X_VD_INT] = ud;
-    dx[X_VQ_INT] = uq;
+    return dx;
 }
 
 static void rk4_pwm(const integ_t *c, const discrete_mode_t *dm,
@@ -538,17 +546,24 @@ static void rk4_pwm(const integ_t *c, const discrete_mode_t *dm,
     k.inv_band = deadtime_inv_band(c, x[X_VDC]);
     k.theta_moves = m->rotor != PMSM_ROTOR_LOCKED;
     k.wm_moves = m->rotor == PMSM_ROTOR_FREE && dm->motion != 0;
-    double k1[X_COUNT], k2[X_COUNT], k3[X_COUNT], k4[X_COUNT], tmp[X_COUNT];
-    derivative_pwm(&k, x, k1);
-    for (int n = 0; n < X_COUNT; n++) tmp[n] = x[n] + 0.5 * h * k1[n];
-    derivative_pwm(&k, tmp, k2);
-    for (int n = 0; n < X_COUNT; n++) tmp[n] = x[n] + 0.5 * h * k2[n];
-    derivative_pwm(&k, tmp, k3);
-    for (int n = 0; n < X_COUNT; n++) tmp[n] = x[n] + h * k3[n];
-    derivative_pwm(&k, tmp, k4);
-    for (int n = 0; n < X_COUNT; n++) {
-        out[n] = x[n] + h / 6.0 * (k1[n] + 2.0 * k2[n] + 2.0 * k3[n] + k4[n]);
-    }
+    const double hh = 0.5 * h;
+    const double x_id = x[X_ID], x_iq = x[X_IQ], x_wm = x[X_WM], x_th = x[X_THETA],
+                 x_vdc = x[X_VDC];
+    const pwm_dx_t k1 = deriv_pwm_s(&k, x_id, x_iq, x_wm, x_th, x_vdc);
+    const pwm_dx_t k2 = deriv_pwm_s(&k, x_id + hh * k1.id, x_iq + hh * k1.iq,
+                                    x_wm + hh * k1.wm, x_th + hh * k1.th, x_vdc + hh * k1.vdc);
+    const pwm_dx_t k3 = deriv_pwm_s(&k, x_id + hh * k2.id, x_iq + hh * k2.iq,
+                                    x_wm + hh * k2.wm, x_th + hh * k2.th, x_vdc + hh * k2.vdc);
+    const pwm_dx_t k4 = deriv_pwm_s(&k, x_id + h * k3.id, x_iq + h * k3.iq,
+                                    x_wm + h * k3.wm, x_th + h * k3.th, x_vdc + h * k3.vdc);
+    const double h6 = h / 6.0;
+    out[X_ID] = x_id + h6 * (k1.id + 2.0 * k2.id + 2.0 * k3.id + k4.id);
+    out[X_IQ] = x_iq + h6 * (k1.iq + 2.0 * k2.iq + 2.0 * k3.iq + k4.iq);
+    out[X_WM] = x_wm + h6 * (k1.wm + 2.0 * k2.wm + 2.0 * k3.wm + k4.wm);
+    out[X_THETA] = x_th + h6 * (k1.th + 2.0 * k2.th + 2.0 * k3.th + k4.th);
+    out[X_VDC] = x_vdc + h6 * (k1.vdc + 2.0 * k2.vdc + 2.0 * k3.vdc + k4.vdc);
+    out[X_VD_INT] = x[X_VD_INT] + h6 * (k1.vd + 2.0 * k2.vd + 2.0 * k3.vd + k4.vd);
+    out[X_VQ_INT] = x[X_VQ_INT] + h6 * (k1.vq + 2.0 * k2.vq + 2.0 * k3.vq + k4.vq);
 }
 
 static void rk4(const integ_t *c, const discrete_mode_t *dm,
