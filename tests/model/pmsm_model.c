@@ -49,6 +49,9 @@
 
 #include <math.h>
 #include <string.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #define PHASES 3
 /* The integration's inner functions are inlined into the RK4 step (half
@@ -112,10 +115,24 @@ typedef struct {
  * it the loss is the full t_dead x f_pwm.  Band half-width: half the
  * peak-to-peak ripple at 50 % duty with 2/3 of the bus across the winding,
  * (2/3) Vdc / (8 L f_pwm) (0.052 A for the Hurst075 at 24 V, 20 kHz). */
+/* v > hi ? hi : (v < lo ? lo : v), NaN passed through, without branches
+ * where SSE2 is there: MINSD/MAXSD return their second operand when the
+ * comparison fails, which is exactly the conditional's result. */
+MODEL_INLINE double clamp_to(double v, double lo, double hi)
+{
+#if defined(__SSE2__)
+    const __m128d upper = _mm_min_sd(_mm_set_sd(hi), _mm_set_sd(v)); /* hi < v ? hi : v */
+    return _mm_cvtsd_f64(_mm_max_sd(_mm_set_sd(lo), upper));        /* lo > u ? lo : u */
+#else
+    const double upper = v > hi ? hi : v;
+    return upper < lo ? lo : upper;
+#endif
+}
+
 MODEL_INLINE double deadtime_fraction(const integ_t *c, double inv_band, double i)
 {
     const double ratio = inv_band > 0.0 ? i * inv_band : (i > 0.0) - (i < 0.0);
-    return c->dt_frac * (ratio > 1.0 ? 1.0 : ratio < -1.0 ? -1.0 : ratio);
+    return c->dt_frac * clamp_to(ratio, -1.0, 1.0);
 }
 
 /* 1 / band for the bus voltage vdc (0 when the band is 0 or undefined). */
@@ -270,7 +287,7 @@ static void phase_currents(const phase_axes_t *ax, double id_a, double iq_a,
 
 MODEL_INLINE double clamp01(double v)
 {
-    return v < 0.0 ? 0.0 : (v > 1.0 ? 1.0 : v);
+    return clamp_to(v, 0.0, 1.0);
 }
 
 MODEL_INLINE double friction_nm(const pmsm_model_t *m)
