@@ -323,7 +323,9 @@ int main(int argc, char **argv)
         if (cli.monitor != NULL) {
             simmon_run(&mon, sim.t_s); /* commands due before this period */
         }
-        if (!sim_step(&sim, &row)) {
+        /* a row only where one is used: CSV, plot, the summary's last */
+        const int need_row = csv != NULL || cli.plot != NULL || sim_last_period(&sim);
+        if (!sim_step(&sim, need_row ? &row : NULL)) {
             break;
         }
         const uint64_t index = sim.period - 1u; /* the period just simulated */
@@ -334,7 +336,9 @@ int main(int argc, char **argv)
         if (cli.plot != NULL) {
             trace_add(&tr, &row);
         }
-        last = row;
+        if (need_row) {
+            last = row;
+        }
     }
     const double cpu_s = (double)(clock() - t0) / CLOCKS_PER_SEC;
 

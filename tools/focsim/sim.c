@@ -243,14 +243,22 @@ int sim_step(sim_t *s, sim_row_t *row)
         s->closed_loop_time_s = s->t_s;
     }
 
-    fill_row(s, &port->last_sample, row);
-    const double i_peak = fmax(fabs(row->ia_a), fmax(fabs(row->ib_a), fabs(row->ic_a)));
+    const pmsm_sample_t *m = &port->last_sample;
+    if (row != NULL) {
+        fill_row(s, m, row);
+    }
+    const double i_peak = fmax(fabs(m->ia_a), fmax(fabs(m->ib_a), fabs(m->ic_a)));
     s->peak_current_a = fmax(s->peak_current_a, i_peak);
 
     pmsm_step_period(&s->model);
     s->period++;
     s->t_s = (double)s->period / PWM_FREQUENCY_HZ;
     return 1;
+}
+
+int sim_last_period(const sim_t *s)
+{
+    return (double)(s->period + 1u) / PWM_FREQUENCY_HZ > s->scn->end_s;
 }
 
 const char *sim_csv_header(void)
