@@ -365,6 +365,15 @@ static electrical_t electrical(const integ_t *c, const discrete_mode_t *dm,
     if (m->bridge == PMSM_BRIDGE_PWM) {
         return electrical_pwm(c, x);
     }
+    if (m->bridge == PMSM_BRIDGE_OFF && dm->diode[0] == 0 && dm->diode[1] == 0 &&
+        dm->diode[2] == 0) {
+        /* every phase blocked: what the general case below gives, without
+         * the phase axes it does not use then */
+        electrical_t e = { 0 };
+        e.ud_v = p->rs_ohm * id - we * p->lq_h * iq;
+        e.uq_v = p->rs_ohm * iq + we * (p->ld_h * id + p->flux_wb);
+        return e;
+    }
     const phase_axes_t ax = integ_axes(c, x[X_THETA]);
     double i_ph[PHASES];
     phase_currents(&ax, id, iq, i_ph);
@@ -704,9 +713,6 @@ static void guards(const integ_t *c, const discrete_mode_t *dm,
     const pmsm_model_t *m = c->m;
     memset(g, 0, GUARD_COUNT * sizeof g[0]);
     if (m->bridge == PMSM_BRIDGE_OFF) {
-        const phase_axes_t ax = integ_axes(c, x[X_THETA]);
-        double i_ph[PHASES];
-        phase_currents(&ax, x[X_ID], x[X_IQ], i_ph);
         const int n_on = (dm->diode[0] != 0) + (dm->diode[1] != 0) +
                          (dm->diode[2] != 0);
         const double vdc = x[X_VDC];
@@ -714,6 +720,12 @@ static void guards(const integ_t *c, const discrete_mode_t *dm,
             int hi;
             int lo;
             g[GUARD_ALL_BLOCKED] = vdc - emf_spread_v(c, x, &hi, &lo);
+        }
+        phase_axes_t ax = { { 0.0, 0.0, 0.0 }, { 0.0, 0.0, 0.0 } };
+        double i_ph[PHASES] = { 0.0, 0.0, 0.0 };
+        if (n_on > 0) {
+            ax = integ_axes(c, x[X_THETA]);
+            phase_currents(&ax, x[X_ID], x[X_IQ], i_ph);
         }
         for (int ph = 0; ph < PHASES && n_on > 0; ph++) {
             if (dm->diode[ph] != 0) {
