@@ -4,8 +4,11 @@
  *   focsim [--estimator sensored|pll|luenberger|flux] [--scenario FILE]
  *          [--csv FILE] [--plot FILE.svg] [--seed N] [--decimate N]
  *          [--field-weakening off|table|voltage]
- *          [--monitor FILE [--monitor-out FILE]] [--time]
+ *          [--monitor FILE [--monitor-out FILE]] [--time] [--substeps N]
  *
+ * --substeps sets the motor model's RK4 substeps per PWM period (default
+ * 4; fewer is faster and less accurate: docs/benchmarks.md, "focsim
+ * speed").
  * --time adds the processor time of the simulation loop and the real-time
  * factor (simulated / processor seconds) to the summary.
  *
@@ -61,7 +64,7 @@ static void usage(FILE *f)
           "              [--csv FILE] [--plot FILE.svg] [--seed N] [--decimate N]\n"
           "              [--field-weakening off|table|voltage] [--stop-mode ramp|coast|short]\n"
           "              [--brake-resistor on|off] [--sensored-start]\n"
-          "              [--monitor FILE [--monitor-out FILE]] [--time]\n",
+          "              [--monitor FILE [--monitor-out FILE]] [--time] [--substeps N]\n",
           f);
 }
 
@@ -115,6 +118,12 @@ static int parse_option(cli_t *cli, const char *opt, const char *val)
             return -1;
         }
         cli->sim.seed = (uint32_t)n;
+    } else if (strcmp(opt, "--substeps") == 0) {
+        if (parse_ulong(val, &n) != 0 || n < 1u || n > 64u) {
+            fprintf(stderr, "focsim: --substeps takes 1..64\n");
+            return -1;
+        }
+        cli->sim.substeps = (int)n;
     } else if (strcmp(opt, "--monitor") == 0) {
         cli->monitor = val;
     } else if (strcmp(opt, "--monitor-out") == 0) {

@@ -71,6 +71,7 @@ void sim_default_options(sim_options_t *o)
     o->fault_brake = -1;
     o->open_loop_only = -1;
     o->tuning = -1;
+    o->substeps = 0;
 }
 
 /* The plant as userparms.h describes it. */
@@ -98,6 +99,9 @@ int sim_init(sim_t *s, const sim_options_t *o, const scn_t *scn, char *err,
 {
     pmsm_params_t p;
     plant_from_userparms(&p, o->seed);
+    if (o->substeps > 0) {
+        p.substeps = o->substeps;
+    }
     pmsm_init(&s->model, &p);
     host_port_attach(&s->model);
     foc_init(&s->ctrl);

@@ -37,6 +37,8 @@ typedef struct {
     int fault_brake;        /* 0/1, or -1 for userparms.h's FAULT_BRAKE */
     int open_loop_only;     /* 0/1, or -1: OPEN_LOOP_FUNCTIONING */
     int tuning;             /* 0/1, or -1: TUNING */
+    int substeps;           /* RK4 substeps per PWM period of the model, */
+                            /* 0 for its default (4) */
 } sim_options_t;
 
 /* userparms.h's choices, seed 1, no sensored start. */
