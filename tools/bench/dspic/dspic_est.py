@@ -37,10 +37,10 @@ import tempfile
 
 # Cycles per operation class (dsPIC33F: one instruction cycle = 2 clocks,
 # 40 MIPS at 80 MHz).  DS70157 = "16-bit MCU and DSC Programmer's Reference
-# Manual", section 3 (instruction set overview: most instructions 1 cycle,
-# double-word moves 2, PC-changing instructions 2-3) and the per-instruction
-# descriptions of section 5; the same figures are in the dsPIC33FJ32MC204
-# datasheet's "Instruction Set Summary" (DS70283).
+# Manual": its instruction set overview (most instructions 1 cycle,
+# double-word moves 2, PC-changing instructions 2-3) and the "Cycles" entry
+# of each instruction's description; the dsPIC33FJ data sheets' "Instruction
+# Set Summary" chapter gives the same figures.
 COSTS = {
     # class         cycles  what XC16 emits / source
     "mul16x16":     1,    # MUL.SS/MUL.UU/MUL.SU Wb,Ws,Wnd: 16x16->32, 1 cycle
