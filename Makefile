@@ -223,7 +223,10 @@ $(STM32_OUT)/obj/%.o: %.c $(STM32_OUT)/cflags
 #               an instruction-set simulator (tools/bench/bench.py, Unicorn):
 #               cycles and instructions per control step, flash, RAM, ISR
 #               stack, where the cycles go -> build/bench/report.txt, ending
-#               with key=value lines (docs/benchmarks.md).
+#               with key=value lines (docs/benchmarks.md); then make
+#               dspic-est appends the dsPIC33 estimate (dspic_cycles_est=).
+# make dspic-est  the dsPIC33 cycle estimate alone (needs the frames of a
+#               previous make bench; clang, llvm-cov, llvm-profdata, opt).
 # make check    after `make test`: every host test under ASan+UBSan
 #               (build/sanitize), short libFuzzer runs, static analysis and
 #               the bench (not gated on cycles); runs all four, fails if any
