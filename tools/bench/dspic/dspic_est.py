@@ -83,7 +83,9 @@ def ir_of(src, cflags, tmp):
     cmd = ["clang", "--target=msp430", "-ffreestanding", "-O0", "-Xclang",
            "-disable-O0-optnone", "-g", "-gcolumn-info", "-w", "-S", "-emit-llvm"] + \
         shlex.split(cflags) + [src, "-o", ll]
-    subprocess.run(cmd, check=True)
+    if subprocess.run(cmd).returncode != 0:
+        raise SystemExit("dspic_est: %s does not compile for a 16-bit-int target"
+                         " (clang --target=msp430): %s" % (src, " ".join(cmd)))
     out = subprocess.run(["opt", "-S", "-passes=sroa", ll], check=True,
                          stdout=subprocess.PIPE, universal_newlines=True).stdout
     return out
