@@ -641,11 +641,14 @@ static double emf_spread_v(const integ_t *c, const double x[X_COUNT],
                            int *hi, int *lo)
 {
     const pmsm_model_t *m = c->m;
-    const phase_axes_t ax = integ_axes(c, x[X_THETA]);
     const double emf_q_v = m->p.pole_pairs * x[X_WM] * m->p.flux_wb;
-    double emf_v[PHASES];
     *hi = 0;
     *lo = 0;
+    if (emf_q_v == 0.0) {
+        return 0.0; /* rotor at rest: what the loop below gives, sooner */
+    }
+    const phase_axes_t ax = integ_axes(c, x[X_THETA]);
+    double emf_v[PHASES];
     for (int ph = 0; ph < PHASES; ph++) {
         emf_v[ph] = emf_q_v * ax.q[ph];
         *hi = emf_v[ph] > emf_v[*hi] ? ph : *hi;
