@@ -224,7 +224,10 @@ $(STM32_OUT)/obj/%.o: %.c $(STM32_OUT)/cflags
 #               cycles and instructions per control step, flash, RAM, ISR
 #               stack, where the cycles go -> build/bench/report.txt (and
 #               the fast step's cycles per source line: lines.txt), ending
-#               with key=value lines (docs/benchmarks.md).
+#               with key=value lines (docs/benchmarks.md); then make
+#               dspic-est appends the dsPIC33 estimate (dspic_cycles_est=).
+# make dspic-est  the dsPIC33 cycle estimate alone (needs the frames of a
+#               previous make bench; clang, llvm-cov, llvm-profdata, opt).
 # make check    after `make test`: every host test under ASan+UBSan
 #               (build/sanitize), short libFuzzer runs, static analysis and
 #               the bench (not gated on cycles); runs all four, fails if any
@@ -270,6 +273,29 @@ bench:
 	    --elf-all $(BENCH_OUT)/all/bench.elf --frames $(BENCH_FRAMES) \
 	    --build-dir $(BENCH_OUT)/fw --output $(BENCH_OUT)/report.txt \
 	    --line-profile $(BENCH_OUT)/lines.txt
+	@$(MAKE) --no-print-directory dspic-est
+	@{ echo ""; cat $(DSPIC_EST_OUT)/estimate.txt; } >> $(BENCH_OUT)/report.txt
+
+# The dsPIC33 cycle estimate of the fast step (tools/bench/dspic): operation
+# classes from the core's IR for a 16-bit-int target, counts from a
+# coverage run of the bench replay (the target scenario's current-loop fast
+# steps only), costs from DS70157 -> build/bench/dspic/estimate.txt,
+# ending with dspic_cycles_est= (make bench appends it to its report;
+# docs/benchmarks.md, "dsPIC33 estimate").
+DSPIC_EST_OUT := $(BENCH_OUT)/dspic
+.PHONY: dspic-est
+dspic-est:
+	@test -f $(BENCH_FRAMES) || { echo "dspic-est: no $(BENCH_FRAMES): run make bench" >&2; exit 1; }
+	@$(MAKE) --no-print-directory -s -f tools/bench/dspic/dspic.mk OUT=$(DSPIC_EST_OUT) \
+	    USERPARMS="$(BENCH_PARMS)" CLANG="clang -w"
+	@/usr/bin/python3 tools/bench/dspic/dspic_est.py estimate \
+	    --binary $(DSPIC_EST_OUT)/dspic_replay \
+	    --run "$(DSPIC_EST_OUT)/dspic_replay $(BENCH_FRAMES) 1 fast" \
+	    --slow-run "$(DSPIC_EST_OUT)/dspic_replay $(BENCH_FRAMES) 1 slow" \
+	    --sources $(wildcard src/*.c) --keep src include/foc \
+	    --cflags="-Iinclude -DFOC_USERPARMS_FILE='\"$(BENCH_PARMS)\"'" \
+	    --label "fast step, target scenario (pll_fw_3shunt), current-loop states" \
+	    --lines 12 --output $(DSPIC_EST_OUT)/estimate.txt
 
 check:
 	@fail=""; for t in check-sanitize check-fuzz check-static check-bench; do \

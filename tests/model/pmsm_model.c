@@ -49,8 +49,27 @@
 
 #include <math.h>
 #include <string.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #define PHASES 3
+/* The integration's inner functions are inlined into the RK4 step (half
+ * of the model's time was calls and moving their arguments). */
+#if defined(__GNUC__)
+#define MODEL_INLINE static inline __attribute__((always_inline))
+#else
+#define MODEL_INLINE static inline
+#endif
+/* The switching bridge's RK4 step, the model's hot spot, also compiled for
+ * AVX where the processor has it (picked at load time): the same scalar
+ * double operations in three-operand form, without SSE2's register copies.
+ * Contraction into FMA stays off (C11 mode), so the results are the same. */
+#if defined(__GNUC__) && defined(__x86_64__) && defined(__linux__)
+#define MODEL_CLONES __attribute__((target_clones("avx", "default")))
+#else
+#define MODEL_CLONES
+#endif
 /* Bound on located mode changes per substep (a few are physically
  * possible: diode commutations and a rotor stop).  Beyond it the rest of
  * the substep is integrated without event location. */
@@ -75,18 +94,71 @@ static const double PHASE_SIN[PHASES] = { 0.0, 0.86602540378443864676,
 
 enum { X_ID, X_IQ, X_WM, X_THETA, X_VDC, X_VD_INT, X_VQ_INT, X_COUNT };
 
+/* Rotation by a small angle d: cos(d) and sin(d) by their Taylor series up
+ * to d^10 / d^11, exact to rounding (the next terms are below 4e-20) for
+ * |d| <= SMALL_ANGLE_RAD.  Beyond it the angle is evaluated directly. */
+static const double SMALL_ANGLE_RAD = 0.125;
+/* A new reference angle is taken at a substep's start once the angle has
+ * moved this far from the present one (a substep moves it by at most
+ * 0.04 rad at 3000 rad/s electrical, 20 kHz, 4 substeps). */
+static const double REBASE_ANGLE_RAD = 0.0625;
+
+/* What one period's integration evaluates often: the model, reciprocals of
+ * the parameters it divides by, and a reference angle with its cosine and
+ * sine, from which the angles of the RK4 stages are reached by a small
+ * rotation (sin/cos of the state angle was most of the model's time). */
+typedef struct {
+    const pmsm_model_t *m;
+    double inv_ld, inv_lq;     /* 1/H */
+    double band_per_v;         /* dead-time ripple band per bus volt, A/V */
+    double dt_frac;            /* t_dead * f_pwm */
+    double inv_j;              /* 1/kg m^2 */
+    double inv_cap;            /* 1/F (bus capacitor, if any) */
+    double inv_source_r;       /* 1/ohm (source to bus capacitor) */
+    double theta0, c0, s0;     /* reference angle, cos, sin */
+} integ_t;
+
 /* Duty a phase loses to the dead time, signed by its current.  The phase
  * current carries PWM ripple, so within the ripple band it crosses zero
  * during the period and the average loss fades in proportionally; outside
  * it the loss is the full t_dead x f_pwm.  Band half-width: half the
  * peak-to-peak ripple at 50 % duty with 2/3 of the bus across the winding,
  * (2/3) Vdc / (8 L f_pwm) (0.052 A for the Hurst075 at 24 V, 20 kHz). */
-static double deadtime_fraction(const pmsm_params_t *p, double vdc, double i)
+/* v > hi ? hi : (v < lo ? lo : v), NaN passed through, without branches
+ * where SSE2 is there: MINSD/MAXSD return their second operand when the
+ * comparison fails, which is exactly the conditional's result. */
+MODEL_INLINE double clamp_to(double v, double lo, double hi)
 {
-    const double l_h = 0.5 * (p->ld_h + p->lq_h);
-    const double band = (2.0 / 3.0) * vdc / (8.0 * l_h * p->pwm_hz);
-    const double ratio = band > 0.0 ? i / band : (i > 0.0) - (i < 0.0);
-    return p->deadtime_s * p->pwm_hz * (ratio > 1.0 ? 1.0 : ratio < -1.0 ? -1.0 : ratio);
+#if defined(__SSE2__)
+    const __m128d upper = _mm_min_sd(_mm_set_sd(hi), _mm_set_sd(v)); /* hi < v ? hi : v */
+    return _mm_cvtsd_f64(_mm_max_sd(_mm_set_sd(lo), upper));        /* lo > u ? lo : u */
+#else
+    const double upper = v > hi ? hi : v;
+    return upper < lo ? lo : upper;
+#endif
+}
+
+MODEL_INLINE double deadtime_fraction(const integ_t *c, double inv_band, double i)
+{
+    const double ratio = inv_band > 0.0 ? i * inv_band : (i > 0.0) - (i < 0.0);
+    /* dt_frac * clamp(ratio, -1, 1), with branches on purpose: outside the
+     * band (nearly always) the result does not wait for the current, so an
+     * RK4 stage's chain of dependent operations is short (dt_frac * +-1 is
+     * exact: the same values) */
+    if (ratio > 1.0) {
+        return c->dt_frac;
+    }
+    if (ratio < -1.0) {
+        return -c->dt_frac;
+    }
+    return c->dt_frac * ratio;
+}
+
+/* 1 / band for the bus voltage vdc (0 when the band is 0 or undefined). */
+MODEL_INLINE double deadtime_inv_band(const integ_t *c, double vdc)
+{
+    const double band = c->band_per_v * vdc;
+    return band > 0.0 ? 1.0 / band : 0.0;
 }
 
 /* Discrete state held constant over one integration interval. */
@@ -117,10 +189,8 @@ static int sign_of(double v)
     return (v > 0.0) - (v < 0.0);
 }
 
-static phase_axes_t phase_axes(double theta_e_rad)
+static phase_axes_t axes_from(double c, double s)
 {
-    const double c = cos(theta_e_rad);
-    const double s = sin(theta_e_rad);
     phase_axes_t ax;
     for (int x = 0; x < PHASES; x++) {
         /* axis angle phi_x - theta: cos(phi - th), sin(phi - th) */
@@ -128,6 +198,103 @@ static phase_axes_t phase_axes(double theta_e_rad)
         ax.q[x] = PHASE_SIN[x] * c - PHASE_COS[x] * s;
     }
     return ax;
+}
+
+static phase_axes_t phase_axes(double theta_e_rad)
+{
+    return axes_from(cos(theta_e_rad), sin(theta_e_rad));
+}
+
+static void integ_rebase(integ_t *c, double theta_e_rad)
+{
+    c->theta0 = theta_e_rad;
+    c->c0 = cos(theta_e_rad);
+    c->s0 = sin(theta_e_rad);
+}
+
+static double source_r_ohm(const pmsm_model_t *m)
+{
+    const double substep_s = 1.0 / (m->p.pwm_hz * m->p.substeps);
+    const double r_min_ohm = 2.0 * substep_s / m->p.bus_cap_f;
+    return SOURCE_R_OHM > r_min_ohm ? SOURCE_R_OHM : r_min_ohm;
+}
+
+/* cos and sin of the state's angle at the start of a period, computed
+ * once for pmsm_sample and pmsm_step_period (and the host's probes). */
+static void start_cos_sin(pmsm_model_t *m, double *co, double *si)
+{
+    if (!m->trig_valid || m->trig_theta != m->s.theta_e_rad) {
+        m->trig_theta = m->s.theta_e_rad;
+        m->trig_cos = cos(m->trig_theta);
+        m->trig_sin = sin(m->trig_theta);
+        m->trig_valid = 1;
+    }
+    *co = m->trig_cos;
+    *si = m->trig_sin;
+}
+
+void pmsm_cos_sin(pmsm_model_t *m, double *cos_theta, double *sin_theta)
+{
+    start_cos_sin(m, cos_theta, sin_theta);
+}
+
+static void integ_init(integ_t *c, pmsm_model_t *m, double theta_e_rad)
+{
+    const pmsm_params_t *p = &m->p;
+    const double l_h = 0.5 * (p->ld_h + p->lq_h);
+    c->m = m;
+    c->inv_ld = 1.0 / p->ld_h;
+    c->inv_lq = 1.0 / p->lq_h;
+    c->band_per_v = (2.0 / 3.0) / (8.0 * l_h * p->pwm_hz);
+    c->dt_frac = p->deadtime_s * p->pwm_hz;
+    c->inv_j = 1.0 / p->j_kgm2;
+    c->inv_cap = p->bus_cap_f > 0.0 ? 1.0 / p->bus_cap_f : 0.0;
+    c->inv_source_r = p->bus_cap_f > 0.0 ? 1.0 / source_r_ohm(m) : 0.0;
+    if (theta_e_rad == m->s.theta_e_rad) {
+        c->theta0 = theta_e_rad;
+        start_cos_sin(m, &c->c0, &c->s0);
+    } else {
+        integ_rebase(c, theta_e_rad);
+    }
+}
+
+MODEL_INLINE void small_rotation(double d, double *cd, double *sd)
+{
+    const double d2 = d * d;
+    *cd = 1.0 + d2 * (-1.0 / 2 + d2 * (1.0 / 24 + d2 * (-1.0 / 720 + d2 * (1.0 / 40320 +
+               d2 * (-1.0 / 3628800)))));
+    *sd = d * (1.0 + d2 * (-1.0 / 6 + d2 * (1.0 / 120 + d2 * (-1.0 / 5040 +
+               d2 * (1.0 / 362880 + d2 * (-1.0 / 39916800))))));
+}
+
+/* phase_axes(theta) through the reference angle of c. */
+static phase_axes_t integ_axes(const integ_t *c, double theta_e_rad)
+{
+    const double d = theta_e_rad - c->theta0;
+    if (fabs(d) > SMALL_ANGLE_RAD) {
+        return phase_axes(theta_e_rad);
+    }
+    double cd;
+    double sd;
+    small_rotation(d, &cd, &sd);
+    return axes_from(c->c0 * cd - c->s0 * sd, c->s0 * cd + c->c0 * sd);
+}
+
+/* cos and sin of theta through the reference angle of c. */
+MODEL_INLINE void integ_cos_sin(const integ_t *c, double theta_e_rad, double *cos_th,
+                          double *sin_th)
+{
+    const double d = theta_e_rad - c->theta0;
+    if (fabs(d) > SMALL_ANGLE_RAD) {
+        *cos_th = cos(theta_e_rad);
+        *sin_th = sin(theta_e_rad);
+        return;
+    }
+    double cd;
+    double sd;
+    small_rotation(d, &cd, &sd);
+    *cos_th = c->c0 * cd - c->s0 * sd;
+    *sin_th = c->s0 * cd + c->c0 * sd;
 }
 
 static void phase_currents(const phase_axes_t *ax, double id_a, double iq_a,
@@ -138,12 +305,12 @@ static void phase_currents(const phase_axes_t *ax, double id_a, double iq_a,
     }
 }
 
-static double clamp01(double v)
+MODEL_INLINE double clamp01(double v)
 {
-    return v < 0.0 ? 0.0 : (v > 1.0 ? 1.0 : v);
+    return clamp_to(v, 0.0, 1.0);
 }
 
-static double friction_nm(const pmsm_model_t *m)
+MODEL_INLINE double friction_nm(const pmsm_model_t *m)
 {
     return m->p.coulomb_nm + m->load_nm;
 }
@@ -154,16 +321,71 @@ double pmsm_torque(const pmsm_params_t *p, double id_a, double iq_a)
            (p->flux_wb * iq_a + (p->ld_h - p->lq_h) * id_a * iq_a);
 }
 
-/* Winding voltages and current derivatives for the given mode and state. */
-static electrical_t electrical(const pmsm_model_t *m, const discrete_mode_t *dm,
-                               const double x[X_COUNT])
+/* electrical() with the bridge switching: the same equations through the
+ * stator frame (the phase currents from i_alpha/i_beta, the winding
+ * voltage as the rotated alpha/beta voltage), which needs a fraction of the
+ * arithmetic of the per-phase axes. */
+MODEL_INLINE electrical_t electrical_pwm(const integ_t *c, const double x[X_COUNT])
 {
+    const pmsm_model_t *m = c->m;
     const pmsm_params_t *p = &m->p;
     const double id = x[X_ID];
     const double iq = x[X_IQ];
     const double we = p->pole_pairs * x[X_WM];
     const double vdc = x[X_VDC];
-    const phase_axes_t ax = phase_axes(x[X_THETA]);
+    double co;
+    double si;
+    integ_cos_sin(c, x[X_THETA], &co, &si);
+    const double i_alpha = id * co - iq * si;
+    const double i_beta = id * si + iq * co;
+    const double half_sqrt3 = 0.5 * SQRT3;
+    const double i_ph[PHASES] = { i_alpha, -0.5 * i_alpha + half_sqrt3 * i_beta,
+                                  -0.5 * i_alpha - half_sqrt3 * i_beta };
+    const double inv_band = deadtime_inv_band(c, vdc);
+    electrical_t e = { 0 };
+    double v_ph[PHASES];
+    for (int ph = 0; ph < PHASES; ph++) {
+        const double duty_eff = clamp01(m->duty[ph] - deadtime_fraction(c, inv_band, i_ph[ph]));
+        v_ph[ph] = vdc * duty_eff;
+        e.bus_current_a += duty_eff * i_ph[ph];
+    }
+    /* amplitude-invariant Clarke of the terminal voltages drops the common
+     * mode, i.e. the floating star point */
+    const double v_alpha = (2.0 / 3.0) * (v_ph[0] - 0.5 * (v_ph[1] + v_ph[2]));
+    const double v_beta = (1.0 / SQRT3) * (v_ph[1] - v_ph[2]);
+    e.ud_v = v_alpha * co + v_beta * si;
+    e.uq_v = -v_alpha * si + v_beta * co;
+    /* winding voltage that would hold the currents constant */
+    const double hold_d = p->rs_ohm * id - we * p->lq_h * iq;
+    const double hold_q = p->rs_ohm * iq + we * (p->ld_h * id + p->flux_wb);
+    e.did_dt = (e.ud_v - hold_d) * c->inv_ld;
+    e.diq_dt = (e.uq_v - hold_q) * c->inv_lq;
+    return e;
+}
+
+/* Winding voltages and current derivatives for the given mode and state. */
+static electrical_t electrical(const integ_t *c, const discrete_mode_t *dm,
+                               const double x[X_COUNT])
+{
+    const pmsm_model_t *m = c->m;
+    const pmsm_params_t *p = &m->p;
+    const double id = x[X_ID];
+    const double iq = x[X_IQ];
+    const double we = p->pole_pairs * x[X_WM];
+    const double vdc = x[X_VDC];
+    if (m->bridge == PMSM_BRIDGE_PWM) {
+        return electrical_pwm(c, x);
+    }
+    if (m->bridge == PMSM_BRIDGE_OFF && dm->diode[0] == 0 && dm->diode[1] == 0 &&
+        dm->diode[2] == 0) {
+        /* every phase blocked: what the general case below gives, without
+         * the phase axes it does not use then */
+        electrical_t e = { 0 };
+        e.ud_v = p->rs_ohm * id - we * p->lq_h * iq;
+        e.uq_v = p->rs_ohm * iq + we * (p->ld_h * id + p->flux_wb);
+        return e;
+    }
+    const phase_axes_t ax = integ_axes(c, x[X_THETA]);
     double i_ph[PHASES];
     phase_currents(&ax, id, iq, i_ph);
 
@@ -176,11 +398,7 @@ static electrical_t electrical(const pmsm_model_t *m, const discrete_mode_t *dm,
     int n_blocked = 0;
     for (int ph = 0; ph < PHASES; ph++) {
         double v_terminal = 0.0;
-        if (m->bridge == PMSM_BRIDGE_PWM) {
-            const double duty_eff = clamp01(m->duty[ph] - deadtime_fraction(p, vdc, i_ph[ph]));
-            v_terminal = vdc * duty_eff;
-            e.bus_current_a += duty_eff * i_ph[ph];
-        } else if (m->bridge == PMSM_BRIDGE_OFF) {
+        if (m->bridge == PMSM_BRIDGE_OFF) {
             if (dm->diode[ph] == 0) {
                 blocked = ph;
                 n_blocked++;
@@ -220,23 +438,20 @@ static electrical_t electrical(const pmsm_model_t *m, const discrete_mode_t *dm,
         gq += mu * aq;
         e.float_v = 1.5 * mu;
     }
-    e.did_dt = gd / p->ld_h;
-    e.diq_dt = gq / p->lq_h;
+    e.did_dt = gd * c->inv_ld;
+    e.diq_dt = gq * c->inv_lq;
     return e;
 }
 
-static double source_r_ohm(const pmsm_model_t *m)
+/* pwm: the bridge is switching (a constant where inlined, so that the
+ * switching case is compiled on its own). */
+MODEL_INLINE void derivative(const integ_t *c, const discrete_mode_t *dm,
+                             const double x[X_COUNT], double dx[X_COUNT],
+                             const int pwm)
 {
-    const double substep_s = 1.0 / (m->p.pwm_hz * m->p.substeps);
-    const double r_min_ohm = 2.0 * substep_s / m->p.bus_cap_f;
-    return SOURCE_R_OHM > r_min_ohm ? SOURCE_R_OHM : r_min_ohm;
-}
-
-static void derivative(const pmsm_model_t *m, const discrete_mode_t *dm,
-                       const double x[X_COUNT], double dx[X_COUNT])
-{
+    const pmsm_model_t *m = c->m;
     const pmsm_params_t *p = &m->p;
-    const electrical_t e = electrical(m, dm, x);
+    const electrical_t e = pwm ? electrical_pwm(c, x) : electrical(c, dm, x);
     dx[X_ID] = e.did_dt;
     dx[X_IQ] = e.diq_dt;
     dx[X_WM] = 0.0;
@@ -247,34 +462,164 @@ static void derivative(const pmsm_model_t *m, const discrete_mode_t *dm,
     if (m->rotor == PMSM_ROTOR_FREE && dm->motion != 0) {
         const double te = pmsm_torque(p, x[X_ID], x[X_IQ]);
         dx[X_WM] = (te - p->b_nm_per_rad_s * x[X_WM] -
-                    friction_nm(m) * dm->motion) / p->j_kgm2;
+                    friction_nm(m) * dm->motion) * c->inv_j;
     }
     dx[X_VDC] = 0.0;
     if (p->bus_cap_f > 0.0) {
         const double vdc = x[X_VDC];
-        const double i_source = fmax(0.0, (p->vdc_source_v - vdc) /
-                                          source_r_ohm(m));
+        const double i_source = fmax(0.0, (p->vdc_source_v - vdc) *
+                                          c->inv_source_r);
         const double i_brake = m->brake_resistor_on ? vdc / p->brake_r_ohm
                                                     : 0.0;
-        dx[X_VDC] = (i_source - e.bus_current_a - i_brake) / p->bus_cap_f;
+        dx[X_VDC] = (i_source - e.bus_current_a - i_brake) * c->inv_cap;
     }
     dx[X_VD_INT] = e.ud_v;
     dx[X_VQ_INT] = e.uq_v;
 }
 
-static void rk4(const pmsm_model_t *m, const discrete_mode_t *dm,
-                const double x[X_COUNT], double h, double out[X_COUNT])
+MODEL_INLINE void rk4_step(const integ_t *c, const discrete_mode_t *dm,
+                           const double x[X_COUNT], double h, double out[X_COUNT],
+                           const int pwm)
 {
     double k1[X_COUNT], k2[X_COUNT], k3[X_COUNT], k4[X_COUNT], tmp[X_COUNT];
-    derivative(m, dm, x, k1);
+    derivative(c, dm, x, k1, pwm);
     for (int n = 0; n < X_COUNT; n++) tmp[n] = x[n] + 0.5 * h * k1[n];
-    derivative(m, dm, tmp, k2);
+    derivative(c, dm, tmp, k2, pwm);
     for (int n = 0; n < X_COUNT; n++) tmp[n] = x[n] + 0.5 * h * k2[n];
-    derivative(m, dm, tmp, k3);
+    derivative(c, dm, tmp, k3, pwm);
     for (int n = 0; n < X_COUNT; n++) tmp[n] = x[n] + h * k3[n];
-    derivative(m, dm, tmp, k4);
+    derivative(c, dm, tmp, k4, pwm);
     for (int n = 0; n < X_COUNT; n++) {
         out[n] = x[n] + h / 6.0 * (k1[n] + 2.0 * k2[n] + 2.0 * k3[n] + k4[n]);
+    }
+}
+
+/* The switching bridge's derivative (derivative() with pwm = 1, the same
+ * operations in the same order) with everything that is constant over an
+ * RK4 step loaded once: this case is nearly all of a simulation's time. */
+typedef struct {
+    const integ_t *c;
+    double duty[PHASES];
+    double rs, ld, lq, flux, pp, b, inv_j, fric_motion, torque_k, ld_lq;
+    double inv_band;      /* stiff bus: for the step's (constant) voltage */
+    int stiff_bus;
+    int theta_moves;      /* rotor not locked */
+    int wm_moves;         /* free rotor in motion */
+    const pmsm_params_t *p;
+    const pmsm_model_t *m;
+} pwm_step_t;
+
+/* The switching bridge's derivative: derivative() with pwm = 1, the same
+ * operations in the same order, on scalars so that an RK4 step keeps its
+ * state in registers. */
+typedef struct {
+    double id, iq, wm, th, vdc, vd, vq;
+} pwm_dx_t;
+
+MODEL_INLINE pwm_dx_t deriv_pwm_s(const pwm_step_t *k, double id, double iq, double wm,
+                                  double th, double vdc)
+{
+    const integ_t *c = k->c;
+    const double we = k->pp * wm;
+    double co;
+    double si;
+    integ_cos_sin(c, th, &co, &si);
+    const double i_alpha = id * co - iq * si;
+    const double i_beta = id * si + iq * co;
+    const double half_sqrt3 = 0.5 * SQRT3;
+    const double i0 = i_alpha;
+    const double i1 = -0.5 * i_alpha + half_sqrt3 * i_beta;
+    const double i2 = -0.5 * i_alpha - half_sqrt3 * i_beta;
+    const double inv_band = k->stiff_bus ? k->inv_band : deadtime_inv_band(c, vdc);
+    const double d0 = clamp01(k->duty[0] - deadtime_fraction(c, inv_band, i0));
+    const double d1 = clamp01(k->duty[1] - deadtime_fraction(c, inv_band, i1));
+    const double d2 = clamp01(k->duty[2] - deadtime_fraction(c, inv_band, i2));
+    const double v0 = vdc * d0;
+    const double v1 = vdc * d1;
+    const double v2 = vdc * d2;
+    const double v_alpha = (2.0 / 3.0) * (v0 - 0.5 * (v1 + v2));
+    const double v_beta = (1.0 / SQRT3) * (v1 - v2);
+    pwm_dx_t dx;
+    dx.vd = v_alpha * co + v_beta * si;
+    dx.vq = -v_alpha * si + v_beta * co;
+    const double hold_d = k->rs * id - we * k->lq * iq;
+    const double hold_q = k->rs * iq + we * (k->ld * id + k->flux);
+    dx.id = (dx.vd - hold_d) * c->inv_ld;
+    dx.iq = (dx.vq - hold_q) * c->inv_lq;
+    dx.th = k->theta_moves ? k->pp * wm : 0.0;
+    dx.wm = 0.0;
+    if (k->wm_moves) {
+        const double te = k->torque_k * (k->flux * iq + k->ld_lq * id * iq);
+        dx.wm = (te - k->b * wm - k->fric_motion) * c->inv_j;
+    }
+    dx.vdc = 0.0;
+    if (!k->stiff_bus) {
+        const pmsm_params_t *p = k->p;
+        double bus_current_a = 0.0;
+        bus_current_a += d0 * i0;
+        bus_current_a += d1 * i1;
+        bus_current_a += d2 * i2;
+        const double i_source = fmax(0.0, (p->vdc_source_v - vdc) * c->inv_source_r);
+        const double i_brake = k->m->brake_resistor_on ? vdc / p->brake_r_ohm : 0.0;
+        dx.vdc = (i_source - bus_current_a - i_brake) * c->inv_cap;
+    }
+    return dx;
+}
+
+MODEL_CLONES
+static void rk4_pwm(const integ_t *c, const discrete_mode_t *dm,
+                    const double x[X_COUNT], double h, double out[X_COUNT])
+{
+    const pmsm_model_t *m = c->m;
+    const pmsm_params_t *p = &m->p;
+    pwm_step_t k;
+    k.c = c;
+    k.m = m;
+    k.p = p;
+    for (int ph = 0; ph < PHASES; ph++) {
+        k.duty[ph] = m->duty[ph];
+    }
+    k.rs = p->rs_ohm;
+    k.ld = p->ld_h;
+    k.lq = p->lq_h;
+    k.flux = p->flux_wb;
+    k.pp = p->pole_pairs;
+    k.b = p->b_nm_per_rad_s;
+    k.inv_j = c->inv_j;
+    k.fric_motion = friction_nm(m) * dm->motion;
+    k.torque_k = 1.5 * p->pole_pairs;
+    k.ld_lq = p->ld_h - p->lq_h;
+    k.stiff_bus = !(p->bus_cap_f > 0.0);
+    k.inv_band = deadtime_inv_band(c, x[X_VDC]);
+    k.theta_moves = m->rotor != PMSM_ROTOR_LOCKED;
+    k.wm_moves = m->rotor == PMSM_ROTOR_FREE && dm->motion != 0;
+    const double hh = 0.5 * h;
+    const double x_id = x[X_ID], x_iq = x[X_IQ], x_wm = x[X_WM], x_th = x[X_THETA],
+                 x_vdc = x[X_VDC];
+    const pwm_dx_t k1 = deriv_pwm_s(&k, x_id, x_iq, x_wm, x_th, x_vdc);
+    const pwm_dx_t k2 = deriv_pwm_s(&k, x_id + hh * k1.id, x_iq + hh * k1.iq,
+                                    x_wm + hh * k1.wm, x_th + hh * k1.th, x_vdc + hh * k1.vdc);
+    const pwm_dx_t k3 = deriv_pwm_s(&k, x_id + hh * k2.id, x_iq + hh * k2.iq,
+                                    x_wm + hh * k2.wm, x_th + hh * k2.th, x_vdc + hh * k2.vdc);
+    const pwm_dx_t k4 = deriv_pwm_s(&k, x_id + h * k3.id, x_iq + h * k3.iq,
+                                    x_wm + h * k3.wm, x_th + h * k3.th, x_vdc + h * k3.vdc);
+    const double h6 = h / 6.0;
+    out[X_ID] = x_id + h6 * (k1.id + 2.0 * k2.id + 2.0 * k3.id + k4.id);
+    out[X_IQ] = x_iq + h6 * (k1.iq + 2.0 * k2.iq + 2.0 * k3.iq + k4.iq);
+    out[X_WM] = x_wm + h6 * (k1.wm + 2.0 * k2.wm + 2.0 * k3.wm + k4.wm);
+    out[X_THETA] = x_th + h6 * (k1.th + 2.0 * k2.th + 2.0 * k3.th + k4.th);
+    out[X_VDC] = x_vdc + h6 * (k1.vdc + 2.0 * k2.vdc + 2.0 * k3.vdc + k4.vdc);
+    out[X_VD_INT] = x[X_VD_INT] + h6 * (k1.vd + 2.0 * k2.vd + 2.0 * k3.vd + k4.vd);
+    out[X_VQ_INT] = x[X_VQ_INT] + h6 * (k1.vq + 2.0 * k2.vq + 2.0 * k3.vq + k4.vq);
+}
+
+static void rk4(const integ_t *c, const discrete_mode_t *dm,
+                const double x[X_COUNT], double h, double out[X_COUNT])
+{
+    if (c->m->bridge == PMSM_BRIDGE_PWM) {
+        rk4_pwm(c, dm, x, h, out);
+    } else {
+        rk4_step(c, dm, x, h, out, 0);
     }
 }
 
@@ -292,14 +637,18 @@ enum { FORCE_NONE = -1 };
 
 /* Spread of the phase back-EMFs (the largest line-line EMF) at zero
  * current, and the phases with the highest and lowest EMF. */
-static double emf_spread_v(const pmsm_model_t *m, const double x[X_COUNT],
+static double emf_spread_v(const integ_t *c, const double x[X_COUNT],
                            int *hi, int *lo)
 {
-    const phase_axes_t ax = phase_axes(x[X_THETA]);
+    const pmsm_model_t *m = c->m;
     const double emf_q_v = m->p.pole_pairs * x[X_WM] * m->p.flux_wb;
-    double emf_v[PHASES];
     *hi = 0;
     *lo = 0;
+    if (emf_q_v == 0.0) {
+        return 0.0; /* rotor at rest: what the loop below gives, sooner */
+    }
+    const phase_axes_t ax = integ_axes(c, x[X_THETA]);
+    double emf_v[PHASES];
     for (int ph = 0; ph < PHASES; ph++) {
         emf_v[ph] = emf_q_v * ax.q[ph];
         *hi = emf_v[ph] > emf_v[*hi] ? ph : *hi;
@@ -312,10 +661,10 @@ static double emf_spread_v(const pmsm_model_t *m, const double x[X_COUNT],
  * zero current, from the voltage their terminal would float to.  Zeroes
  * the currents when fewer than two phases conduct (rounding residue).
  * force: a guard reached by interpolation whose turn-on is to happen. */
-static void decide_diodes(const pmsm_model_t *m, double x[X_COUNT],
+static void decide_diodes(const integ_t *c, double x[X_COUNT],
                           discrete_mode_t *dm, int force)
 {
-    const phase_axes_t ax = phase_axes(x[X_THETA]);
+    const phase_axes_t ax = integ_axes(c, x[X_THETA]);
     double i_ph[PHASES];
     phase_currents(&ax, x[X_ID], x[X_IQ], i_ph);
     int n_on = 0;
@@ -330,12 +679,12 @@ static void decide_diodes(const pmsm_model_t *m, double x[X_COUNT],
         x[X_IQ] = 0.0;
         int hi;
         int lo;
-        if (emf_spread_v(m, x, &hi, &lo) > vdc || force == GUARD_ALL_BLOCKED) {
+        if (emf_spread_v(c, x, &hi, &lo) > vdc || force == GUARD_ALL_BLOCKED) {
             dm->diode[hi] = -1; /* current leaves the motor into DC+ */
             dm->diode[lo] = +1; /* and returns from DC- */
         }
     } else if (n_on == 2) {
-        const electrical_t e = electrical(m, dm, x);
+        const electrical_t e = electrical(c, dm, x);
         for (int ph = 0; ph < PHASES; ph++) {
             if (dm->diode[ph] != 0) {
                 continue;
@@ -350,13 +699,14 @@ static void decide_diodes(const pmsm_model_t *m, double x[X_COUNT],
     }
 }
 
-static discrete_mode_t decide_mode(const pmsm_model_t *m, double x[X_COUNT],
+static discrete_mode_t decide_mode(const integ_t *c, double x[X_COUNT],
                                    int force)
 {
+    const pmsm_model_t *m = c->m;
     discrete_mode_t dm;
     memset(&dm, 0, sizeof dm);
     if (m->bridge == PMSM_BRIDGE_OFF) {
-        decide_diodes(m, x, &dm, force);
+        decide_diodes(c, x, &dm, force);
     }
     if (m->rotor == PMSM_ROTOR_FREE) {
         dm.motion = sign_of(x[X_WM]);
@@ -371,27 +721,31 @@ static discrete_mode_t decide_mode(const pmsm_model_t *m, double x[X_COUNT],
     return dm;
 }
 
-static void guards(const pmsm_model_t *m, const discrete_mode_t *dm,
+static void guards(const integ_t *c, const discrete_mode_t *dm,
                    const double x[X_COUNT], double g[GUARD_COUNT])
 {
+    const pmsm_model_t *m = c->m;
     memset(g, 0, GUARD_COUNT * sizeof g[0]);
     if (m->bridge == PMSM_BRIDGE_OFF) {
-        const phase_axes_t ax = phase_axes(x[X_THETA]);
-        double i_ph[PHASES];
-        phase_currents(&ax, x[X_ID], x[X_IQ], i_ph);
         const int n_on = (dm->diode[0] != 0) + (dm->diode[1] != 0) +
                          (dm->diode[2] != 0);
         const double vdc = x[X_VDC];
         if (n_on == 0) {
             int hi;
             int lo;
-            g[GUARD_ALL_BLOCKED] = vdc - emf_spread_v(m, x, &hi, &lo);
+            g[GUARD_ALL_BLOCKED] = vdc - emf_spread_v(c, x, &hi, &lo);
+        }
+        phase_axes_t ax = { { 0.0, 0.0, 0.0 }, { 0.0, 0.0, 0.0 } };
+        double i_ph[PHASES] = { 0.0, 0.0, 0.0 };
+        if (n_on > 0) {
+            ax = integ_axes(c, x[X_THETA]);
+            phase_currents(&ax, x[X_ID], x[X_IQ], i_ph);
         }
         for (int ph = 0; ph < PHASES && n_on > 0; ph++) {
             if (dm->diode[ph] != 0) {
                 g[ph] = dm->diode[ph] * i_ph[ph];
             } else {
-                const double float_v = electrical(m, dm, x).float_v;
+                const double float_v = electrical(c, dm, x).float_v;
                 g[ph] = fmin(float_v, vdc - float_v);
             }
         }
@@ -406,15 +760,35 @@ static void guards(const pmsm_model_t *m, const discrete_mode_t *dm,
 
 /* Earliest guard crossing between x0 and x1 as a fraction of the
  * interval (linear interpolation); returns the guard index or -1. */
-static int first_crossing(const pmsm_model_t *m, const discrete_mode_t *dm,
+static int first_crossing(const integ_t *c, const discrete_mode_t *dm,
                           const double x0[X_COUNT], const double x1[X_COUNT],
                           double *fraction)
 {
-    double g0[GUARD_COUNT], g1[GUARD_COUNT];
-    guards(m, dm, x0, g0);
-    guards(m, dm, x1, g1);
-    int first = -1;
+    const pmsm_model_t *m = c->m;
     *fraction = 1.0;
+    if (m->bridge != PMSM_BRIDGE_OFF) {
+        /* only the rotor's guard can be crossed (guards() with the bridge
+         * driven, without its other, zero, entries) */
+        if (m->rotor != PMSM_ROTOR_FREE) {
+            return -1;
+        }
+        double g[2];
+        for (int k = 0; k < 2; k++) {
+            const double *xk = k == 0 ? x0 : x1;
+            g[k] = dm->motion != 0
+                       ? dm->motion * xk[X_WM]
+                       : friction_nm(m) - fabs(pmsm_torque(&m->p, xk[X_ID], xk[X_IQ]));
+        }
+        if (g[0] > 0.0 && g[1] <= 0.0) {
+            *fraction = g[0] / (g[0] - g[1]);
+            return GUARD_ROTOR;
+        }
+        return -1;
+    }
+    double g0[GUARD_COUNT], g1[GUARD_COUNT];
+    guards(c, dm, x0, g0);
+    guards(c, dm, x1, g1);
+    int first = -1;
     for (int k = 0; k < GUARD_COUNT; k++) {
         if (g0[k] > 0.0 && g1[k] <= 0.0) {
             const double f = g0[k] / (g0[k] - g1[k]);
@@ -428,9 +802,9 @@ static int first_crossing(const pmsm_model_t *m, const discrete_mode_t *dm,
 }
 
 /* Removes one phase's current, keeping the other two balanced. */
-static void remove_phase_current(double x[X_COUNT], int ph)
+static void remove_phase_current(const integ_t *c, double x[X_COUNT], int ph)
 {
-    const phase_axes_t ax = phase_axes(x[X_THETA]);
+    const phase_axes_t ax = integ_axes(c, x[X_THETA]);
     const double i_x = x[X_ID] * ax.d[ph] + x[X_IQ] * ax.q[ph];
     x[X_ID] -= i_x * ax.d[ph];
     x[X_IQ] -= i_x * ax.q[ph];
@@ -439,19 +813,19 @@ static void remove_phase_current(double x[X_COUNT], int ph)
 /* At a guard crossing: a diode turning off or a rotor stopping has its
  * current or speed set to exactly zero; a turn-on or break-away is forced
  * into the next mode. */
-static discrete_mode_t cross_guard(const pmsm_model_t *m,
+static discrete_mode_t cross_guard(const integ_t *c,
                                    const discrete_mode_t *dm, int guard,
                                    double x[X_COUNT])
 {
     if (guard == GUARD_ROTOR) {
         if (dm->motion == 0) {
-            return decide_mode(m, x, GUARD_ROTOR);
+            return decide_mode(c, x, GUARD_ROTOR);
         }
         x[X_WM] = 0.0;
-        return decide_mode(m, x, FORCE_NONE);
+        return decide_mode(c, x, FORCE_NONE);
     }
     if (guard == GUARD_ALL_BLOCKED || dm->diode[guard] == 0) {
-        return decide_mode(m, x, guard);
+        return decide_mode(c, x, guard);
     }
     int others_blocked = 0;
     for (int ph = 0; ph < PHASES; ph++) {
@@ -462,17 +836,18 @@ static discrete_mode_t cross_guard(const pmsm_model_t *m,
         x[X_ID] = 0.0;
         x[X_IQ] = 0.0;
     } else {
-        remove_phase_current(x, guard);
+        remove_phase_current(c, x, guard);
     }
-    return decide_mode(m, x, FORCE_NONE);
+    return decide_mode(c, x, FORCE_NONE);
 }
 
 /* Bridge off with one phase blocked: RK4 keeps the (rotating) constraint
  * only to its truncation error; project the drift away so that the blocked
  * current stays at rounding level. */
-static void hold_blocked_phase(const pmsm_model_t *m,
+static void hold_blocked_phase(const integ_t *c,
                                const discrete_mode_t *dm, double x[X_COUNT])
 {
+    const pmsm_model_t *m = c->m;
     if (m->bridge != PMSM_BRIDGE_OFF) {
         return;
     }
@@ -485,31 +860,33 @@ static void hold_blocked_phase(const pmsm_model_t *m,
         }
     }
     if (n_blocked == 1) {
-        remove_phase_current(x, blocked);
+        remove_phase_current(c, x, blocked);
     }
 }
 
-static void integrate_substep(const pmsm_model_t *m, double x[X_COUNT],
-                              double h)
+static void integrate_substep(integ_t *c, double x[X_COUNT], double h)
 {
-    discrete_mode_t dm = decide_mode(m, x, FORCE_NONE);
+    if (fabs(x[X_THETA] - c->theta0) > REBASE_ANGLE_RAD) {
+        integ_rebase(c, x[X_THETA]);
+    }
+    discrete_mode_t dm = decide_mode(c, x, FORCE_NONE);
     double remaining_s = h;
     for (int events = 0; remaining_s > 0.0; events++) {
         double end[X_COUNT];
-        rk4(m, &dm, x, remaining_s, end);
+        rk4(c, &dm, x, remaining_s, end);
         double fraction = 1.0;
         const int guard = events < MAX_EVENTS_PER_SUBSTEP
-                              ? first_crossing(m, &dm, x, end, &fraction)
+                              ? first_crossing(c, &dm, x, end, &fraction)
                               : -1;
         if (guard < 0) {
             memcpy(x, end, sizeof end);
-            hold_blocked_phase(m, &dm, x);
+            hold_blocked_phase(c, &dm, x);
             return;
         }
-        rk4(m, &dm, x, remaining_s * fraction, end);
+        rk4(c, &dm, x, remaining_s * fraction, end);
         memcpy(x, end, sizeof end);
-        hold_blocked_phase(m, &dm, x);
-        dm = cross_guard(m, &dm, guard, x);
+        hold_blocked_phase(c, &dm, x);
+        dm = cross_guard(c, &dm, guard, x);
         remaining_s *= 1.0 - fraction;
     }
 }
@@ -586,8 +963,10 @@ void pmsm_step_period(pmsm_model_t *m)
     const double substep_s = period_s / m->p.substeps;
     double x[X_COUNT] = { m->s.id_a, m->s.iq_a, m->s.wm_rad_s,
                           m->s.theta_e_rad, m->s.vdc_v, 0.0, 0.0 };
+    integ_t c;
+    integ_init(&c, m, x[X_THETA]);
     for (int k = 0; k < m->p.substeps; k++) {
-        integrate_substep(m, x, substep_s);
+        integrate_substep(&c, x, substep_s);
     }
     m->s.id_a = x[X_ID];
     m->s.iq_a = x[X_IQ];
@@ -623,7 +1002,7 @@ static double gaussian(uint32_t *state)
 static int32_t adc_code(const pmsm_params_t *p, int ph, double i_a,
                         double noise_codes)
 {
-    const double half_scale = ldexp(1.0, p->adc_bits - 1);
+    const double half_scale = (double)(1L << (p->adc_bits - 1)); /* 2^(bits-1), exact */
     const double full_code = 2.0 * half_scale - 1.0;
     const double ideal = half_scale +
                          i_a * (1.0 + p->gain_error[ph]) / p->current_fs_a *
@@ -636,12 +1015,22 @@ static int32_t adc_code(const pmsm_params_t *p, int ph, double i_a,
 void pmsm_sample(pmsm_model_t *m, pmsm_sample_t *out)
 {
     const pmsm_params_t *p = &m->p;
-    const phase_axes_t ax = phase_axes(m->s.theta_e_rad);
+    double co;
+    double si;
+    start_cos_sin(m, &co, &si);
+    const phase_axes_t ax = axes_from(co, si);
     double i_ph[PHASES];
     int32_t code[PHASES];
     phase_currents(&ax, m->s.id_a, m->s.iq_a, i_ph);
     for (int ph = 0; ph < PHASES; ph++) {
-        const double noise = p->noise_codes * gaussian(&m->rng);
+        /* without noise the generator still advances, as it would have */
+        double noise = 0.0;
+        if (p->noise_codes != 0.0) {
+            noise = p->noise_codes * gaussian(&m->rng);
+        } else {
+            (void)uniform_open01(&m->rng);
+            (void)uniform_open01(&m->rng);
+        }
         code[ph] = adc_code(p, ph, i_ph[ph], noise);
     }
     out->ia_a = i_ph[0];

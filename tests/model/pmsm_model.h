@@ -122,6 +122,9 @@ typedef struct {
     uint32_t rng;               /* noise generator state */
     double vd_last_v, vq_last_v;
     double time_s;
+    /* cos/sin of s.theta_e_rad, computed once per period (internal) */
+    int trig_valid;
+    double trig_theta, trig_cos, trig_sin;
 } pmsm_model_t;
 
 /* Defaults: Hurst DMB0224C10002 on a dsPICDEM MCLV-like 24 V inverter,
@@ -152,6 +155,11 @@ void pmsm_set_rotor_mode(pmsm_model_t *m, pmsm_rotor_mode_t mode, double spin_rp
 void pmsm_set_load(pmsm_model_t *m, double load_nm);
 void pmsm_set_vdc(pmsm_model_t *m, double vdc_source_v);
 void pmsm_set_brake_resistor(pmsm_model_t *m, int on);
+
+/* cos and sin of the present electrical angle (s.theta_e_rad), as cos()
+ * and sin() give them; computed once per period and shared with
+ * pmsm_sample and pmsm_step_period. */
+void pmsm_cos_sin(pmsm_model_t *m, double *cos_theta, double *sin_theta);
 
 /* Electrical torque for the given state (used by tests). */
 double pmsm_torque(const pmsm_params_t *p, double id_a, double iq_a);

@@ -4,7 +4,13 @@
  *   focsim [--estimator sensored|pll|luenberger|flux] [--scenario FILE]
  *          [--csv FILE] [--plot FILE.svg] [--seed N] [--decimate N]
  *          [--field-weakening off|table|voltage]
- *          [--monitor FILE [--monitor-out FILE]]
+ *          [--monitor FILE [--monitor-out FILE]] [--time] [--substeps N]
+ *
+ * --substeps sets the motor model's RK4 substeps per PWM period (default
+ * 4; fewer is faster and less accurate: docs/benchmarks.md, "focsim
+ * speed").
+ * --time adds the processor time of the simulation loop and the real-time
+ * factor (simulated / processor seconds) to the summary.
  *
  * --monitor runs a script of timed monitor commands ("<time_s> <command>"
  * lines, simmon.h) against the controller, with a scope buffer sampled
@@ -21,6 +27,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "foc/config.h"
 #include "sim.h"
@@ -39,6 +46,7 @@ typedef struct {
     unsigned long decimate;
     const char *monitor;     /* monitor script, or NULL */
     const char *monitor_out; /* its output file, NULL: standard output */
+    int time;                /* --time: report the real-time factor */
     sim_options_t sim;
 } cli_t;
 
@@ -56,7 +64,7 @@ static void usage(FILE *f)
           "              [--csv FILE] [--plot FILE.svg] [--seed N] [--decimate N]\n"
           "              [--field-weakening off|table|voltage] [--stop-mode ramp|coast|short]\n"
           "              [--brake-resistor on|off] [--sensored-start]\n"
-          "              [--monitor FILE [--monitor-out FILE]]\n",
+          "              [--monitor FILE [--monitor-out FILE]] [--time] [--substeps N]\n",
           f);
 }
 
@@ -110,6 +118,12 @@ static int parse_option(cli_t *cli, const char *opt, const char *val)
             return -1;
         }
         cli->sim.seed = (uint32_t)n;
+    } else if (strcmp(opt, "--substeps") == 0) {
+        if (parse_ulong(val, &n) != 0 || n < 1u || n > 64u) {
+            fprintf(stderr, "focsim: --substeps takes 1..64\n");
+            return -1;
+        }
+        cli->sim.substeps = (int)n;
     } else if (strcmp(opt, "--monitor") == 0) {
         cli->monitor = val;
     } else if (strcmp(opt, "--monitor-out") == 0) {
@@ -134,6 +148,7 @@ static int parse_cli(int argc, char **argv, cli_t *cli)
     cli->decimate = 1;
     cli->monitor = NULL;
     cli->monitor_out = NULL;
+    cli->time = 0;
     sim_default_options(&cli->sim);
     cli->estimator = foc_est_name(cli->sim.estimator);
     for (int i = 1; i < argc; i++) {
@@ -144,6 +159,10 @@ static int parse_cli(int argc, char **argv, cli_t *cli)
         }
         if (strcmp(opt, "--sensored-start") == 0) {
             cli->sim.sensored_start = 1;
+            continue;
+        }
+        if (strcmp(opt, "--time") == 0) {
+            cli->time = 1;
             continue;
         }
         if (strcmp(opt, "--ideal-inverter") == 0) {
@@ -308,11 +327,14 @@ int main(int argc, char **argv)
     trace_t tr = { 0 };
     sim_row_t row, last = { 0 };
     char line[512];
+    const clock_t t0 = clock();
     for (;;) {
         if (cli.monitor != NULL) {
             simmon_run(&mon, sim.t_s); /* commands due before this period */
         }
-        if (!sim_step(&sim, &row)) {
+        /* a row only where one is used: CSV, plot, the summary's last */
+        const int need_row = csv != NULL || cli.plot != NULL || sim_last_period(&sim);
+        if (!sim_step(&sim, need_row ? &row : NULL)) {
             break;
         }
         const uint64_t index = sim.period - 1u; /* the period just simulated */
@@ -323,8 +345,11 @@ int main(int argc, char **argv)
         if (cli.plot != NULL) {
             trace_add(&tr, &row);
         }
-        last = row;
+        if (need_row) {
+            last = row;
+        }
     }
+    const double cpu_s = (double)(clock() - t0) / CLOCKS_PER_SEC;
 
     int rc = 0;
     if (csv != NULL && fclose(csv) != 0) {
@@ -340,6 +365,10 @@ int main(int argc, char **argv)
         rc = 1;
     }
     print_summary(&sim, &last, cli.estimator);
+    if (cli.time) {
+        printf("cpu_time_s=%.3f\nrealtime_factor=%.1f\n", cpu_s,
+               cpu_s > 0.0 ? sim.t_s / cpu_s : 0.0);
+    }
     trace_free(&tr);
     scn_free(&scn);
     return rc;

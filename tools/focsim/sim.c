@@ -71,6 +71,7 @@ void sim_default_options(sim_options_t *o)
     o->fault_brake = -1;
     o->open_loop_only = -1;
     o->tuning = -1;
+    o->substeps = 0;
 }
 
 /* The plant as userparms.h describes it. */
@@ -98,6 +99,9 @@ int sim_init(sim_t *s, const sim_options_t *o, const scn_t *scn, char *err,
 {
     pmsm_params_t p;
     plant_from_userparms(&p, o->seed);
+    if (o->substeps > 0) {
+        p.substeps = o->substeps;
+    }
     pmsm_init(&s->model, &p);
     host_port_attach(&s->model);
     foc_init(&s->ctrl);
@@ -181,7 +185,7 @@ static double wrap_deg(double deg)
     return d < 0.0 ? d + 360.0 : d;
 }
 
-static void fill_row(const sim_t *s, const pmsm_sample_t *m, sim_row_t *r)
+static void fill_row(sim_t *s, const pmsm_sample_t *m, sim_row_t *r)
 {
     const foc_ctrl_t *c = &s->ctrl;
     const double i_base = FOC_I_BASE_A / 32768.0;
@@ -200,8 +204,16 @@ static void fill_row(const sim_t *s, const pmsm_sample_t *m, sim_row_t *r)
     /* true rotor-frame currents from the true phase currents */
     const double alpha = m->ia_a;
     const double beta = (m->ia_a + 2.0 * m->ib_a) / sqrt(3.0);
-    r->id_a = alpha * cos(th) + beta * sin(th);
-    r->iq_a = -alpha * sin(th) + beta * cos(th);
+    double co;
+    double si;
+    if (th == s->model.s.theta_e_rad) {
+        pmsm_cos_sin(&s->model, &co, &si); /* the model's, computed once a period */
+    } else {
+        co = cos(th);
+        si = sin(th);
+    }
+    r->id_a = alpha * co + beta * si;
+    r->iq_a = -alpha * si + beta * co;
     r->id_ref_a = c->i_ref.d * i_base;
     r->iq_ref_a = c->i_ref.q * i_base;
     r->vd_v = c->v_dq.d * v_base;
@@ -235,14 +247,22 @@ int sim_step(sim_t *s, sim_row_t *row)
         s->closed_loop_time_s = s->t_s;
     }
 
-    fill_row(s, &port->last_sample, row);
-    const double i_peak = fmax(fabs(row->ia_a), fmax(fabs(row->ib_a), fabs(row->ic_a)));
+    const pmsm_sample_t *m = &port->last_sample;
+    if (row != NULL) {
+        fill_row(s, m, row);
+    }
+    const double i_peak = fmax(fabs(m->ia_a), fmax(fabs(m->ib_a), fabs(m->ic_a)));
     s->peak_current_a = fmax(s->peak_current_a, i_peak);
 
     pmsm_step_period(&s->model);
     s->period++;
     s->t_s = (double)s->period / PWM_FREQUENCY_HZ;
     return 1;
+}
+
+int sim_last_period(const sim_t *s)
+{
+    return (double)(s->period + 1u) / PWM_FREQUENCY_HZ > s->scn->end_s;
 }
 
 const char *sim_csv_header(void)

@@ -37,6 +37,8 @@ typedef struct {
     int fault_brake;        /* 0/1, or -1 for userparms.h's FAULT_BRAKE */
     int open_loop_only;     /* 0/1, or -1: OPEN_LOOP_FUNCTIONING */
     int tuning;             /* 0/1, or -1: TUNING */
+    int substeps;           /* RK4 substeps per PWM period of the model, */
+                            /* 0 for its default (4) */
 } sim_options_t;
 
 /* userparms.h's choices, seed 1, no sensored start. */
@@ -72,8 +74,12 @@ int sim_init(sim_t *s, const sim_options_t *o, const scn_t *scn, char *err,
              size_t errlen);
 
 /* One PWM period; returns 1 while the scenario has not ended, 0 after the
- * last period (row not filled then). */
+ * last period (row not filled then).  row may be NULL when the caller
+ * needs no row for this period (the run is the same; faster). */
 int sim_step(sim_t *s, sim_row_t *row);
+
+/* 1 if the next sim_step is the scenario's last period. */
+int sim_last_period(const sim_t *s);
 
 /* The CSV header line (no newline) and one row in the same column order. */
 const char *sim_csv_header(void);
