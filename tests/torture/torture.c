@@ -18,6 +18,8 @@
  *          #! expect state RUN                the final state
  *          #! expect speed <rpm> <tol %>      mean true speed over the last
  *                                             0.3 s within tol of rpm
+ *          #! expect bus_below_ov             true bus never above OVERVOLTAGE_V
+ *          #! expect running_or_fault         ends in RUN or with a named fault
  *        exit status 0 when no invariant is violated, no trip is false and
  *        every expectation holds, 1 otherwise
  *   torture_<motor> --selftest
@@ -132,6 +134,8 @@ typedef struct {
     char expect_state[16];
     double expect_speed_rpm, expect_speed_tol;
     int has_expect_speed;
+    int expect_bus_below_ov;   /* the true bus never above OVERVOLTAGE_V */
+    int expect_running_or_fault;
 } spec_t;
 
 static void spec_add(spec_t *sp, const char *fmt, ...)
@@ -312,6 +316,7 @@ typedef struct {
     double last_lock_t, last_spin_t, last_heavy_t, last_nf_t, last_ov_t, last_uv_t;
     double last_ol_slip_t, last_start_turning_t, last_oc_t;
     const char *last_cause; /* of the last fault latched */
+    double vdc_max;
     /* speed window for `expect speed` */
     double tail_sum;
     long tail_n;
@@ -555,6 +560,7 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
     o->prev_first = first;
     o->prev_state = st;
 
+    o->vdc_max = fmax(o->vdc_max, r->vdc_v);
     if (t >= t_end - 0.3) {
         o->tail_sum += w;
         o->tail_n++;
@@ -671,6 +677,10 @@ static int parse_directives(const char *text, spec_t *sp, int *ests, int *nests)
             } else if (strcmp(key, "expect") == 0) {
                 if (strcmp(a, "fault") == 0) {
                     sp->expect_fault = 1;
+                } else if (strcmp(a, "bus_below_ov") == 0) {
+                    sp->expect_bus_below_ov = 1;
+                } else if (strcmp(a, "running_or_fault") == 0) {
+                    sp->expect_running_or_fault = 1;
                 } else if (strcmp(a, "state") == 0) {
                     snprintf(sp->expect_state, sizeof sp->expect_state, "%s", b);
                 } else if (strcmp(a, "speed") == 0) {
@@ -715,6 +725,14 @@ static int check_expectations(const spec_t *sp, result_t *r)
     if (sp->expect_state[0] && strcmp(sp->expect_state, foc_state_name(r->final_state)) != 0) {
         violate(&r->o, V_EXPECT, r->t_end, "expected final state %s, got %s (fault %s)",
                 sp->expect_state, foc_state_name(r->final_state), foc_fault_name(r->fault));
+    }
+    if (sp->expect_bus_below_ov && r->o.vdc_max > OVERVOLTAGE_V) {
+        violate(&r->o, V_EXPECT, r->t_end, "bus reached %.1f V, above OVERVOLTAGE_V %.1f V",
+                r->o.vdc_max, OVERVOLTAGE_V);
+    }
+    if (sp->expect_running_or_fault && r->final_state != FOC_STATE_RUN && r->fault == 0u) {
+        violate(&r->o, V_EXPECT, r->t_end, "expected RUN or a named fault, ended in %s",
+                foc_state_name(r->final_state));
     }
     if (sp->has_expect_speed) {
         const double mean = r->o.tail_n ? r->o.tail_sum / (double)r->o.tail_n : 0.0;
