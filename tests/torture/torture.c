@@ -317,6 +317,7 @@ typedef struct {
     double last_ol_slip_t, last_start_turning_t, last_oc_t;
     const char *last_cause; /* of the last fault latched */
     double vdc_max;
+    long uncontrollable_periods; /* current not judged: back-EMF beyond reach */
     /* speed window for `expect speed` */
     double tail_sum;
     long tail_n;
@@ -428,8 +429,14 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
         o->last_start_turning_t = t;
     }
 
-    /* 1. current: every state, while the bridge switches */
-    if (en) {
+    /* 1. current: every state, while the bridge switches, except where no
+     * controller can hold it: the d current needed to keep the back-EMF
+     * inside the bus's reach ((psi - Vdc/sqrt3 / we) / Ld) above the limit */
+    const double we = fabs(w) * RAD_S_PER_RPM * MOTOR_POLE_PAIRS;
+    const int uncontrollable =
+        we * m->p.flux_wb > r->vdc_v / sqrt(3.0) + m->p.ld_h * we * CURRENT_LIMIT_A;
+    if (uncontrollable) o->uncontrollable_periods++;
+    if (en && !uncontrollable) {
         const double ratio = ipk / CURRENT_LIMIT_A;
         if (ratio > o->peak_ratio) {
             o->peak_ratio = ratio;
@@ -635,9 +642,10 @@ static void print_result(const char *label, const spec_t *sp, const result_t *r)
     }
     if (!any) printf("none");
     printf(" peak_ratio=%.3f det_worst_s=%.3f detections=%d end_state=%s fault=%s cause=%s"
-           " t_end=%.2f\n",
+           " t_end=%.2f unjudged_current_s=%.4f\n",
            r->o.peak_ratio, r->o.det_worst_s, r->o.detections, foc_state_name(r->final_state),
-           foc_fault_name(r->fault), r->o.last_cause ? r->o.last_cause : "-", r->t_end);
+           foc_fault_name(r->fault), r->o.last_cause ? r->o.last_cause : "-", r->t_end,
+           (double)r->o.uncontrollable_periods / PWM_FREQUENCY_HZ);
     for (int k = 0; k < V_KINDS; k++) {
         if (r->o.count[k]) {
             printf("  %s at %.4f s: %s\n", v_names[k], r->o.first_t[k], r->o.what[k]);
