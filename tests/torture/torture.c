@@ -55,7 +55,8 @@
 #define I_MARGIN 1.05              /* peak phase current / CURRENT_LIMIT_A */
 #define OVERSPEED_MARGIN 1.10      /* |speed| / MOTOR_MAX_SPEED_RPM */
 #define STILL_FRACTION 0.02        /* standstill: |speed| < 2 % of max */
-#define NF_REL 0.30                /* "not following": |true-est| > 30 % */
+#define SLIP_DEG 90.0              /* "not following": the estimated angle */
+#define SLIP_WINDOW_S 0.05         /* slipped this far in this time */
 #define NF_GAP_S 0.05              /* gaps shorter than this join stretches */
 #define DET_FAST_S 0.200           /* detection bound above 10 % of max */
 #define DET_SLOW_S 0.500           /* and below */
@@ -288,7 +289,7 @@ static const char *const v_names[V_KINDS] = {
 
 /* What the self-test perturbs in the oracle's view of the plant. */
 typedef enum {
-    INJ_NONE, INJ_CURRENT, INJ_STALL, INJ_BUS, INJ_SPEED, INJ_FAULT
+    INJ_NONE, INJ_CURRENT, INJ_STALL, INJ_SLIP, INJ_BUS, INJ_SPEED, INJ_FAULT
 } inject_t;
 
 typedef struct {
@@ -317,6 +318,13 @@ typedef struct {
     double last_ol_slip_t, last_start_turning_t, last_oc_t;
     const char *last_cause; /* of the last fault latched */
     double vdc_max;
+    /* unwrapped electrical angle error (estimate - true), deg, sampled
+     * every millisecond over SLIP_WINDOW_S */
+    double slip_u, slip_prev_d;
+    double slip_ring[64];
+    int slip_n, slip_i;
+    long slip_k;
+    int slip_flag;
     long uncontrollable_periods; /* current not judged: back-EMF beyond reach */
     /* speed window for `expect speed` */
     double tail_sum;
@@ -388,6 +396,10 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
     }
     if (inj == INJ_STALL && t >= 1.0) {
         r->speed_rpm = 0.0;
+    }
+    if (inj == INJ_SLIP && t >= 1.0) {
+        /* the rotor lags the commutation by 10 electrical turns a second */
+        r->theta_e_deg = fmod(r->theta_e_deg - 3600.0 * (t - 1.0) + 3600000.0, 360.0);
     }
     if (inj == INJ_BUS && t >= 1.0 && t < 1.02) {
         r->vdc_v = 1.1 * OVERVOLTAGE_V;
@@ -494,8 +506,32 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
     }
 
     /* 3. a rotor that does not follow: judged in RUN with the bridge on */
+    int slipping = 0;
     if (st == FOC_STATE_RUN && en) {
-        const int disagree = fabs(w - west) > fmax(NF_REL * fabs(west), STILL_FRACTION * wmax);
+        const double d = fmod(r->theta_est_deg - r->theta_e_deg + 540.0, 360.0) - 180.0;
+        if (o->slip_n == 0 && o->slip_k == 0) {
+            o->slip_prev_d = d;
+            o->slip_u = d;
+        }
+        o->slip_u += fmod(d - o->slip_prev_d + 540.0, 360.0) - 180.0;
+        o->slip_prev_d = d;
+        const long per_ms = (long)(PWM_FREQUENCY_HZ / 1000.0);
+        const int len = (int)(SLIP_WINDOW_S * 1000.0);
+        if (o->slip_k++ % per_ms == 0) {
+            o->slip_flag = o->slip_n >= len &&
+                fabs(o->slip_u - o->slip_ring[(o->slip_i + 64 - len) % 64]) > SLIP_DEG;
+            o->slip_ring[o->slip_i] = o->slip_u;
+            o->slip_i = (o->slip_i + 1) % 64;
+            if (o->slip_n < len) o->slip_n++;
+        }
+        slipping = o->slip_flag;
+    } else {
+        o->slip_n = 0;
+        o->slip_k = 0;
+        o->slip_flag = 0;
+    }
+    if (st == FOC_STATE_RUN && en) {
+        const int disagree = slipping;
         const int stalled = fabs(wref) >= STILL_FRACTION * wmax && fabs(w) < STILL_FRACTION * wmax;
         if (disagree || stalled) {
             o->last_nf_t = t;
@@ -824,6 +860,7 @@ static int selftest(void)
     static const struct { inject_t inj; int kind; const char *name; } cases[] = {
         { INJ_CURRENT, V_CURRENT, "current spike" },
         { INJ_STALL, V_NOFOLLOW, "rotor stalled (true speed 0)" },
+        { INJ_SLIP, V_NOFOLLOW, "rotor slipping (true angle lags)" },
         { INJ_BUS, V_BUS_OV, "bus above the over-voltage threshold" },
         { INJ_SPEED, V_OVERSPEED, "overspeed" },
         { INJ_FAULT, V_FALSE_TRIP, "fault without cause" },
