@@ -57,6 +57,7 @@
 #define STILL_FRACTION 0.02        /* standstill: |speed| < 2 % of max */
 #define SLIP_DEG 90.0              /* "not following": the estimated angle */
 #define SLIP_WINDOW_S 0.05         /* slipped this far in this time */
+#define EST_WRONG_REL 0.30         /* a trip's cause: |true-est| > 30 % */
 #define NF_GAP_S 0.05              /* gaps shorter than this join stretches */
 #define DET_FAST_S 0.200           /* detection bound above 10 % of max */
 #define DET_SLOW_S 0.500           /* and below */
@@ -315,7 +316,7 @@ typedef struct {
     uint16_t prev_first;
     /* recent history for fault causes */
     double last_lock_t, last_spin_t, last_heavy_t, last_nf_t, last_ov_t, last_uv_t;
-    double last_ol_slip_t, last_start_turning_t, last_oc_t;
+    double last_est_wrong_t, last_ol_slip_t, last_start_turning_t, last_oc_t;
     const char *last_cause; /* of the last fault latched */
     double vdc_max;
     /* unwrapped electrical angle error (estimate - true), deg, sampled
@@ -349,7 +350,7 @@ static void oracle_init(oracle_t *o)
     o->ov_since = -1.0;
     o->last_lock_t = o->last_spin_t = o->last_heavy_t = o->last_nf_t = -1e9;
     o->last_ov_t = o->last_uv_t = o->last_ol_slip_t = o->last_start_turning_t = -1e9;
-    o->last_oc_t = -1e9;
+    o->last_oc_t = o->last_est_wrong_t = -1e9;
 }
 
 static int energised(int bridge) { return bridge == PMSM_BRIDGE_PWM; }
@@ -371,6 +372,7 @@ static const char *fault_cause(const oracle_t *o, uint16_t fault, double t)
         if (t - o->last_spin_t <= w) return "rotor driven";
         if (t - o->last_heavy_t <= w) return "load beyond the current";
         if (t - o->last_nf_t <= w) return "rotor not following";
+        if (t - o->last_est_wrong_t <= w) return "estimate wrong";
         if (t - o->last_ol_slip_t <= 0.5) return "rotor not following the start-up";
         if (t - o->last_start_turning_t <= w + STARTUP_TIMEOUT_S) return "start into a turning rotor";
         if (t - o->last_uv_t <= w) return "bus low";
@@ -433,6 +435,12 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
     if (r->vdc_v >= 0.97 * OVERVOLTAGE_V) o->last_ov_t = t;
     if (r->vdc_v <= 1.03 * UNDERVOLTAGE_V) o->last_uv_t = t;
     if (ipk >= 0.97 * BOARD_CURRENT_FULL_SCALE_A) o->last_oc_t = t;
+    /* the estimate far from the truth: a reason to trip, not yet a
+     * violation when the controller does not (rule 3 judges the angle) */
+    if ((st == FOC_STATE_RUN || st == FOC_STATE_OPENLOOP) &&
+        fabs(w - west) > fmax(EST_WRONG_REL * fabs(west), STILL_FRACTION * wmax)) {
+        o->last_est_wrong_t = t;
+    }
     if (st == FOC_STATE_OPENLOOP && fabs(r->speed_ref_rpm) >= 0.5 * STARTUP_FINAL_SPEED_RPM &&
         fabs(w - r->speed_ref_rpm) > 0.5 * fabs(r->speed_ref_rpm)) {
         o->last_ol_slip_t = t;
@@ -518,8 +526,11 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
         const long per_ms = (long)(PWM_FREQUENCY_HZ / 1000.0);
         const int len = (int)(SLIP_WINDOW_S * 1000.0);
         if (o->slip_k++ % per_ms == 0) {
-            o->slip_flag = o->slip_n >= len &&
-                fabs(o->slip_u - o->slip_ring[(o->slip_i + 64 - len) % 64]) > SLIP_DEG;
+            /* against the sample SLIP_WINDOW_S ago (the oldest one in the
+             * first milliseconds of RUN) */
+            const int back = o->slip_n < len ? o->slip_n : len;
+            o->slip_flag = back > 0 &&
+                fabs(o->slip_u - o->slip_ring[(o->slip_i + 64 - back) % 64]) > SLIP_DEG;
             o->slip_ring[o->slip_i] = o->slip_u;
             o->slip_i = (o->slip_i + 1) % 64;
             if (o->slip_n < len) o->slip_n++;
