@@ -169,6 +169,8 @@ static void generate(uint32_t seed, spec_t *sp)
     sp->stop_mode = irand(3);
     spec_add(sp, "# torture seed %u, motor %s, estimator %s, stop mode %s\n", seed,
              TORTURE_MOTOR, est_names[e], stop_names[sp->stop_mode]);
+    spec_add(sp, "#! motor %s\n#! estimator %s\n#! stop_mode %s\n", TORTURE_MOTOR, est_names[e],
+             stop_names[sp->stop_mode]);
     /* plant mismatch */
     const double kl = urand(0.5, 1.5);
     spec_add(sp, "0 plant rs %.6g\n", MOTOR_RS_OHM * urand(0.6, 2.0));
@@ -178,8 +180,13 @@ static void generate(uint32_t seed, spec_t *sp)
     spec_add(sp, "0 plant j %.6g\n", MOTOR_INERTIA_KGM2 * logrand(0.2, 20.0));
     spec_add(sp, "0 plant b %.6g\n",
              MOTOR_VISCOUS_NM_PER_KRPM / (1000.0 * RAD_S_PER_RPM) * urand(0.0, 3.0));
-    sp->coulomb_nm = MOTOR_COULOMB_NM * urand(0.0, 3.0);
-    spec_add(sp, "#! coulomb %.6g\n", sp->coulomb_nm);
+    {
+        /* the value as printed, so that the dumped scenario replays exactly */
+        char num[32];
+        snprintf(num, sizeof num, "%.6g", MOTOR_COULOMB_NM * urand(0.0, 3.0));
+        sp->coulomb_nm = atof(num);
+        spec_add(sp, "#! coulomb %s\n", num);
+    }
     spec_add(sp, "0 plant noise %.3g\n", urand(0.0, 3.0));
     spec_add(sp, "0 plant deadtime %.6g\n", PWM_DEADTIME_S * urand(0.5, 1.5));
     if (irand(2) == 0) {
