@@ -297,7 +297,8 @@ static const char *const v_names[V_KINDS] = {
 
 /* What the self-test perturbs in the oracle's view of the plant. */
 typedef enum {
-    INJ_NONE, INJ_CURRENT, INJ_STALL, INJ_SLIP, INJ_BUS, INJ_SPEED, INJ_FAULT
+    INJ_NONE, INJ_CURRENT, INJ_STALL, INJ_SLIP, INJ_BUS, INJ_SPEED, INJ_FAULT, INJ_TRANSIT,
+    INJ_THERMAL
 } inject_t;
 
 typedef struct {
@@ -420,6 +421,16 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
         t >= CALIB_TIME_S + STARTUP_ALIGN_TIME_S + STARTUP_RAMP_TIME_S + 0.95) {
         st = FOC_STATE_FAULT;
         first = FOC_FAULT_SPEED_FEEDBACK;
+    }
+    if (inj == INJ_TRANSIT && t >= 1.0) {
+        st = FOC_STATE_STOP; /* a STOP that never ends */
+    }
+    if (inj == INJ_THERMAL && t >= 0.5) {
+        /* held at standstill with the rated current, the bridge on */
+        r->speed_rpm = 0.0;
+        r->id_a = 0.0;
+        r->iq_a = MOTOR_RATED_CURRENT_A;
+        r->bridge = PMSM_BRIDGE_PWM;
     }
     const double wmax = MOTOR_MAX_SPEED_RPM;
     const double w = r->speed_rpm;
@@ -882,6 +893,8 @@ static int selftest(void)
         { INJ_BUS, V_BUS_OV, "bus above the over-voltage threshold" },
         { INJ_SPEED, V_OVERSPEED, "overspeed" },
         { INJ_FAULT, V_FALSE_TRIP, "fault without cause" },
+        { INJ_TRANSIT, V_TRANSIT, "STOP that never ends" },
+        { INJ_THERMAL, V_THERMAL, "energised standstill" },
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         if (run_spec(&sp, cases[i].inj, 0, &r) != 0) return 2;
