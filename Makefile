@@ -11,7 +11,7 @@ BUILD      := build/host
 JOBS       ?= 2
 CMAKE_ARGS := -DFOC_USERPARMS="$(FOC_USERPARMS)"
 
-.PHONY: all test sim configure build core-arm clean
+.PHONY: all test sim configure build core-arm clean torture torture-regress
 
 all: build
 
@@ -28,6 +28,21 @@ sim: build
 	@mkdir -p build/sim
 	$(BUILD)/focsim --scenario tools/scenarios/default.scn \
 	    --csv build/sim/default.csv --plot build/sim/default.svg
+
+# The torture campaign of issue 10 (docs/safety.md, tests/torture):
+#   make torture [TORTURE_SEED=N] [TORTURE_RUNS=M]   random scenarios, seeds
+#                N .. N+M-1 over six motors, judged by the physical oracle;
+#                one seed reproduces one run: TORTURE_SEED=N TORTURE_RUNS=1
+#   make torture-regress   the findings of issue 10 (tests/torture/regress)
+TORTURE_SEED ?= 1
+TORTURE_RUNS ?= 200
+
+torture: build
+	python3 tools/torture.py --bin $(BUILD)/torture --seed $(TORTURE_SEED) \
+	    --runs $(TORTURE_RUNS) --jobs $(JOBS)
+
+torture-regress: build
+	python3 tools/torture.py --bin $(BUILD)/torture --regress tests/torture/regress
 
 # The core alone, cross-compiled as the STM32 image will compile it.
 ARM_CC     := arm-none-eabi-gcc
