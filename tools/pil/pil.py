@@ -108,6 +108,9 @@ class Run:
         m.tx_cb = self.on_tx
         m.uev_cb = self.on_uev
         self.rx_line = bytearray()
+        self.tty_queue = []
+        self.tty_busy = False
+        self.sent = []
         self.lines = []            # (t, text) from the image
         self.rows = []
         self.isr = []              # (t_start, cycles, latency, deadline, overrun, state)
@@ -127,6 +130,8 @@ class Run:
         if b in (10, 13):
             if self.rx_line:
                 self.lines.append(((t - getattr(self, "t_origin", 0.0)) / TICK_HZ, self.rx_line.decode("ascii", "replace")))
+                if self.tty_busy:
+                    self.m.sched.at(t + 0.0005 * TICK_HZ, self._type)
                 if self.a.verbose:
                     print("[%.4f] %s" % ((t - getattr(self, "t_origin", 0.0)) / TICK_HZ, self.rx_line.decode("ascii", "replace")))
             self.rx_line = bytearray()
@@ -235,6 +240,21 @@ class Run:
             raise SystemExit("pil: unknown scenario command %s" % cmd)
 
     def say(self, t, text):
+        """Types a command line.  Like an operator (or an expect script),
+        the terminal waits for the reply to a line before typing the next:
+        the monitor has no receive buffer and loses what arrives while it
+        is sending a reply (USART overrun, RM0008 section 27.6.1 ORE)."""
+        self.tty_queue.append(text)
+        if not self.tty_busy:
+            self._type(t)
+
+    def _type(self, t):
+        if not self.tty_queue:
+            self.tty_busy = False
+            return
+        self.tty_busy = True
+        text = self.tty_queue.pop(0)
+        self.sent.append((t, text))
         self.m.usart.send(t, (text + "\r").encode())
 
     def run(self, events, end_s):
@@ -253,7 +273,7 @@ class Run:
         # the firmware's own statistics, asked at the end as an operator would
         m.sched.at((o + end_s) * TICK_HZ, lambda tt: self.say(tt, "isr"))
         m.sched.at((o + end_s) * TICK_HZ, lambda tt: self.say(tt, "status"))
-        m.run((o + end_s + 0.004) * TICK_HZ)
+        m.run((o + end_s + 0.025) * TICK_HZ)
         self.wall = time.time() - wall
         if self.csv:
             self.csv.close()
