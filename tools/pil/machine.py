@@ -207,7 +207,7 @@ class Machine:
         self.ws_cache = {}
         self.prev = None
         self.errors = []
-        uc.hook_add(UC_HOOK_BLOCK, self._block, None, FLASH_ADDR, FLASH_ADDR + FLASH_SIZE - 1)
+        self._fast_block_hook(FLASH_ADDR, FLASH_ADDR + FLASH_SIZE - 1)
         uc.hook_add(UC_HOOK_BLOCK, self._excret, None, EXC_RETURN_PAGE, 0xFFFFFFFF)
         for a, ins in self.table.items():
             if ins.cond is not None and ins.base > 1:
@@ -216,6 +216,36 @@ class Machine:
                 uc.hook_add(UC_HOOK_CODE, self._div, (ins.div_regs[0], ins.div_regs[1], ins.signed), a, a)
         uc.reg_write(UA.UC_ARM_REG_SP, img.vectors[0])
         self.pc = img.vectors[1] & ~1
+
+    def _fast_block_hook(self, begin, end):
+        """The block hook registered through Unicorn's C interface with a
+        plain ctypes callback: the Python binding's two wrapper layers cost
+        as much as the hook itself, and it runs once per executed block."""
+        import unicorn.unicorn as uu
+        blk = self._block
+        uc = self.uc
+        m = self
+        P = bench.P_REFILL
+
+        def cb(handle, addr, size, user):
+            # the common case of _block, inlined: no stop, block cost known
+            if m.t >= m.stop_t or m.irq_check or m.masked_pending:
+                return blk(uc, addr, size, None)
+            r = m.ws_cache.get((addr, size))
+            if r is None:
+                return blk(uc, addr, size, None)
+            prev = m.prev
+            c = r[0] + (P + m.ws if (prev is not None and prev.branch and addr != prev.fall) else 0)
+            m.cycles += c * m.cpu_scale
+            m.t += c * m.tpc_scaled
+            m.prev = r[1]
+        self._cb_keep = uu.UC_HOOK_CODE_CB(cb)
+        h = uu.uc_hook_h()
+        st = uu._uc.uc_hook_add(uc._uch, ctypes.byref(h), UC_HOOK_BLOCK,
+                                ctypes.cast(self._cb_keep, uu.UC_HOOK_CODE_CB),
+                                ctypes.c_void_p(0), ctypes.c_uint64(begin), ctypes.c_uint64(end))
+        if st != 0:
+            raise SystemExit("pil: uc_hook_add failed (%d)" % st)
 
     def _block_cost(self, addr, size):
         """Cycles of a translation block: bench.make_block's Cortex-M3
@@ -320,7 +350,6 @@ class Machine:
             mask = ((1 << (8 * size)) - 1) << sh
             value = (cur & ~mask) | ((value << sh) & mask)
         dev.write(o & ~3, value & 0xFFFFFFFF, self.t)
-        self.irq_check = True
         self.idle_dirty = True
         if dev is self.flash_acr:
             self._clocks()

@@ -45,15 +45,8 @@ class Scheduler:
         heapq.heappush(self.heap, (t, self.seq, fn, wake))
 
     def next_wake(self):
-        for t, _, _, w in self.heap:
-            if w:
-                break
-        # heap order is not sorted order: scan for the smallest wake time
-        best = None
-        for t, _, _, w in self.heap:
-            if w and (best is None or t < best):
-                best = t
-        return best
+        # heap order is not sorted order: the smallest wake time
+        return min((e[0] for e in self.heap if e[3]), default=None)
 
     def run_until(self, t):
         h = self.heap
@@ -125,10 +118,11 @@ class Tim1:
         ph = self.phase(t)
         base = t - ph
         a = self.arr_sh
+        wake = self.rep == 0  # an update comes with this over/underflow
         if ph < a:
-            self.m.sched.at(base + a, lambda tt: g == self.gen and self.over_under(tt, True))
+            self.m.sched.at(base + a, lambda tt: g == self.gen and self.over_under(tt, True), wake)
         else:
-            self.m.sched.at(base + 2 * a, lambda tt: g == self.gen and self.over_under(tt, False))
+            self.m.sched.at(base + 2 * a, lambda tt: g == self.gen and self.over_under(tt, False), wake)
         # CH4 compare instants [RM §14.3.10 PWM mode 2]: OC4REF active for
         # CNT >= CCR4 counting up and CNT > CCR4 counting down, i.e. on
         # the period timeline [CCR4, 2 ARR - CCR4).
@@ -649,18 +643,24 @@ class Iwdg:
         self.gen = 0
         self.refreshes = []
         self.expired = None
+        self.armed = False
+        self.deadline = None
 
     def tick_ticks(self):
         return TICK_HZ / self.m.lsi_hz * (4 << self.pr)
 
     def reload(self, t):
-        self.gen += 1
-        g = self.gen
         self.refreshes.append(t)
-        self.m.sched.at(t + (self.rlr + 1) * self.tick_ticks(),
-                        lambda tt: g == self.gen and self._expire(tt), True)
+        self.deadline = t + (self.rlr + 1) * self.tick_ticks()
+        if not self.armed:
+            self.armed = True
+            self.m.sched.at(self.deadline, self._expire, True)
 
     def _expire(self, t):
+        if t < self.deadline:  # refreshed meanwhile: look again then
+            self.m.sched.at(self.deadline, self._expire, True)
+            return
+        self.armed = False
         self.expired = t
         self.m.watchdog_reset(t)
 

@@ -391,7 +391,7 @@ def report(r, events, end, a):
     for k, v in fp.items():
         out.append(("pil_" + k, v))
     if a.focsim:
-        fcsv = (a.csv or "build/pil/run.csv") + ".focsim.csv"
+        fcsv = (a.csv or a.scenario) + ".focsim.csv"
         ff = figures(run_focsim(a.focsim, a.scenario, fcsv), events, end)
         for k, v in ff.items():
             out.append(("focsim_" + k, v))
