@@ -114,6 +114,7 @@ def _args(argv):
     p.add_argument("--cc4-trigger", default="oc4")
     p.add_argument("--jdr-order", default="sequence")
     p.add_argument("--adc-latency", type=float, default=3.0)
+    p.add_argument("--shunt", default="lowside")
     p.add_argument("--decimate", type=int, default=1)
     p.add_argument("--monitor-log")
     p.add_argument("--until", type=float)

@@ -52,11 +52,12 @@ class PilImage(bench.Image):
 
 class Machine:
     def __init__(self, elf, plant_lib, layout, readings=None, flash_ws="rm0008",
-                 cpu_scale=1.0, adc_latency=3.0, lsi_hz=40000.0, seed=1):
+                 cpu_scale=1.0, adc_latency=3.0, lsi_hz=40000.0, seed=1, shunt="lowside"):
         self.img = PilImage(elf)
         self.readings = dict(rcr_start="count", cc4_trigger="oc4", jdr_order="sequence")
         self.readings.update(readings or {})
         self.flash_ws_model = flash_ws
+        self.shunt_model = shunt
         self.cpu_scale = cpu_scale
         self.adc_latency = adc_latency
         self.lsi_hz = lsi_hz
@@ -691,7 +692,7 @@ class Machine:
             self.conv_snap = (t, st)
         half = self.vref / 2.0
         if ch in (11, 12, 13):
-            i = st[ch - 11]
+            i = self.shunt_current(t, ch - 11, st[ch - 11])
             return half - i / self.i_fs * half
         if ch == 3:
             return st[3] / self.vdc_fs * self.vref
@@ -700,6 +701,42 @@ class Machine:
         if ch == 14:
             return self.pot_fraction * self.vref
         return 0.0
+
+    def shunt_current(self, t, ph, i):
+        """What phase ph's low-side shunt carries at tick t (MB459: one
+        shunt in each low-side leg).  The leg's low switch conducts from
+        its compare value plus the dead time (the complementary output's
+        delayed rising edge, RM0008 §14.3.13 "Complementary outputs and
+        dead-time insertion") until the compare value on the way down; in
+        the dead times the current flows through a diode: the low one
+        (through the shunt) for current into the motor, the high one
+        (not) for current out of it.  Bridge off: diodes only; low sides
+        forced on: the shunt carries the phase current.  `--shunt ideal`
+        reads the phase current at any instant (an average-value probe).
+        The amplifier's settling after an edge is not modelled."""
+        if self.shunt_model == "ideal":
+            return i
+        mode = self.bridge_state[0]
+        if mode == 2:
+            return i
+        if mode == 0:
+            return i if i > 0 else 0.0
+        tim = self.tim1
+        a = tim.arr_sh
+        md = ((tim.ccmr1 >> 4) & 7, (tim.ccmr1 >> 12) & 7, (tim.ccmr2 >> 4) & 7)[ph]
+        c = min(tim.ccr_sh[ph], a)
+        pos = tim.phase(t)  # timeline 0 .. 2 ARR
+        dt = tim.deadtime_ticks()
+        if md == 4:
+            return i
+        if md != 6:
+            return i if i > 0 else 0.0
+        # PWM mode 1: high side on for pos < c or pos > 2a - c
+        if c + dt <= pos < 2 * a - c:
+            return i              # low switch on
+        if c <= pos < c + dt or 2 * a - c <= pos < 2 * a - c + dt:
+            return i if i > 0 else 0.0  # dead time: a diode
+        return 0.0                # high switch on
 
     def adc_trigger(self, t, source):
         """[RM §11.12.3 JEXTSEL / JEXTTRIG, table 72 "External trigger for

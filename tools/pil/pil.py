@@ -102,7 +102,7 @@ class Run:
         layout = load_layout(a.layout)
         readings = dict(rcr_start=a.rcr_start, cc4_trigger=a.cc4_trigger, jdr_order=a.jdr_order)
         m = self.m = machine.Machine(a.elf, a.plant_lib, layout, readings, a.flash_ws,
-                                     a.cpu_scale, a.adc_latency)
+                                     a.cpu_scale, a.adc_latency, shunt=a.shunt)
         m.handler_done = self.handler_done
         m.on_entry = self.on_entry
         m.tx_cb = self.on_tx
@@ -426,6 +426,7 @@ def main(argv=None):
     p.add_argument("--cc4-trigger", choices=["oc4", "cc4event"], default="oc4")
     p.add_argument("--jdr-order", choices=["sequence", "slot"], default="sequence")
     p.add_argument("--adc-latency", type=float, default=3.0)
+    p.add_argument("--shunt", choices=["lowside", "ideal"], default="lowside")
     p.add_argument("--decimate", type=int, default=1)
     p.add_argument("--monitor-log")
     p.add_argument("--until", type=float, help="stop at this time (s) instead of the scenario end")
