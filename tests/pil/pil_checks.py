@@ -50,6 +50,12 @@ def run(common, scn, *extra, until=None):
 
 
 def c_boot(common):
+    for rd in ("count", "overflow"):
+        print("--- --rcr-start %s" % rd)
+        boot_once(common + ["--rcr-start", rd])
+
+
+def boot_once(common):
     scn = scenario("boot", "0.05 end\n")
     r, f = run(common, scn)
     m = r.m
