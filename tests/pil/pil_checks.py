@@ -275,10 +275,15 @@ def main():
                   "--plant-lib", os.path.join(b, "libpilplant.so"),
                   "--layout", os.path.join(b, "ctrl_layout.o")]
         focsim = opts.get("--focsim", "build/shinano/focsim")
+        top = ["--elf", "build/stm32top/foc_stm32f10x.elf"] + common[2:]
         for nm, fn in (("agree", lambda: c_agree(common, focsim)),
-                       ("overruns0", lambda: c_overruns0(common))):
+                       ("overruns0", lambda: c_overruns0(common)),
+                       ("agree, STM32_UPDATE_AT_TOP build", lambda: c_agree(top, focsim)),
+                       ("overruns0, STM32_UPDATE_AT_TOP build", lambda: c_overruns0(top))):
             print("=== pil check %s" % nm)
+            n = len(FAILS)
             fn()
+            print("=== %s: %s" % (nm, "passed" if len(FAILS) == n else "FAILED"))
     else:
         common = ["--elf", opts["--elf"], "--plant-lib", opts["--plant-lib"], "--layout", opts["--layout"]]
         focsim = opts.get("--focsim")
