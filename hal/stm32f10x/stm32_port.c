@@ -38,6 +38,22 @@ FOC_STATIC_ASSERT(TW_AFTER + 2 * TW_BEFORE < PWM_PERIOD / 2,
 FOC_STATIC_ASSERT(SLOW_TICK_CYCLES <= 0x1000000ul,
                   "CONTROL_SLOW_DIVIDER too large for SysTick at this PWM frequency");
 
+/* STM32_UPDATE_AT_TOP (experimental, off: build with
+ * STM32_DEFS=-DSTM32_UPDATE_AT_TOP=1): TIM1's update at the top of the
+ * count instead of the bottom.  The sample, centred on the top, then sits
+ * at the boundary between two duty sets and the duties computed from it
+ * are loaded at the next top: 1.5 periods from the sample to the middle
+ * of their period, which the core assumes (1.0 otherwise, docs/porting.md),
+ * and the interrupt has a whole period instead of half of one.  CCR4 is
+ * preloaded too, so the sampling point is the fixed one centred on the top
+ * (the plan's other windows, for high modulation, are not used: such
+ * periods are flagged unclean), and CC4P never changes, so the trigger is
+ * not held.  Measured processor-in-the-loop (docs/pil.md): 0 overruns and
+ * the estimator's angle error of focsim. */
+#ifndef STM32_UPDATE_AT_TOP
+#define STM32_UPDATE_AT_TOP 0
+#endif
+
 /* NVIC preemption priorities (ST library v2.0, seed 002). */
 #define PRIO_BREAK 0u
 #define PRIO_ADC 1u
@@ -208,11 +224,19 @@ static void arm_next_period(void)
     aux_pot ^= 1u;
     stm32_plan_pwm(&pwm, &d, &timing, &adc_map, aux_pot);
 
+    if (STM32_UPDATE_AT_TOP) {
+        /* the centred window is the plan's first choice: any other one
+         * means the centre is not clean */
+        pwm.clean = (uint8_t)(pwm.clean && pwm.window_start == plan_on_all.window_start);
+        pwm.ccr4 = plan_on_all.ccr4;
+        pwm.ccr4_down = plan_on_all.ccr4_down;
+        pwm.window_start = plan_on_all.window_start;
+    }
     m = irq_save();
     if (!outputs_on()) {
         apply_plan(&plan_off, 0u);
     } else {
-        apply_plan(low_sides ? &plan_on_all : &pwm, 1u);
+        apply_plan(low_sides ? &plan_on_all : &pwm, (uint8_t)!STM32_UPDATE_AT_TOP);
     }
     irq_restore(m);
 }
@@ -332,7 +356,9 @@ static uint8_t next_update_at_bottom(void)
         }
     }
     const uint16_t cnt = TIM1->CNT;
-    return (uint8_t)((TIM1->CR1 & TIM_CR1_DIR) == 0u && cnt < PWM_PERIOD / 2u);
+    const uint8_t bottom = (uint8_t)((TIM1->CR1 & TIM_CR1_DIR) == 0u && cnt < PWM_PERIOD / 2u);
+    /* with STM32_UPDATE_AT_TOP the wanted end of the count is the top */
+    return (uint8_t)(STM32_UPDATE_AT_TOP ? !bottom : bottom);
 }
 
 /* Starts TIM1 with its update (new compare values, TRGO) at the bottom of
