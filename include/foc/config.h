@@ -583,7 +583,7 @@ FOC_STATIC_ASSERT(STOP_SPEED_RPM >= 0.0 && STOP_SPEED_RPM < SPEED_BASE_RPM,
 #define MOTOR_THERMAL_TIME_S 20.0 /* winding thermal time constant, s */
 #endif
 #ifndef OVERSPEED_MARGIN
-#define OVERSPEED_MARGIN 0.2 /* overspeed fault above (1 + margin) x max speed */
+#define OVERSPEED_MARGIN 0.1 /* overspeed fault above (1 + margin) x max speed */
 #endif
 /* The speed command is clamped to +-MOTOR_MAX_SPEED_RPM. */
 #define FOC_MAX_SPEED FOC_SPEED_Q15(MOTOR_MAX_SPEED_RPM)

@@ -53,7 +53,7 @@
 
 /* Margins of the invariants (docs/safety.md). */
 #define I_MARGIN 1.05              /* peak phase current / CURRENT_LIMIT_A */
-#define OVERSPEED_MARGIN 1.10      /* |speed| / MOTOR_MAX_SPEED_RPM */
+#define ORACLE_OVERSPEED 1.10      /* |speed| / MOTOR_MAX_SPEED_RPM */
 #define STILL_FRACTION 0.02        /* standstill: |speed| < 2 % of max */
 #define SLIP_DEG 90.0              /* "not following": the estimated angle */
 #define SLIP_WINDOW_S 0.05         /* slipped this far in this time */
@@ -604,7 +604,7 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
     }
 
     /* 5. overspeed (the rotor not driven by the scenario) */
-    if (m->rotor != PMSM_ROTOR_SPIN && fabs(w) > OVERSPEED_MARGIN * wmax) {
+    if (m->rotor != PMSM_ROTOR_SPIN && fabs(w) > ORACLE_OVERSPEED * wmax) {
         violate(o, V_OVERSPEED, t, "%.0f rpm = %.2f x MOTOR_MAX_SPEED_RPM in %s", w,
                 fabs(w) / wmax, foc_state_name(st));
     }

@@ -76,8 +76,10 @@ void pil_advance(void *h, double dt_s)
     }
     double x[X_COUNT] = { m->s.id_a, m->s.iq_a, m->s.wm_rad_s,
                           m->s.theta_e_rad, m->s.vdc_v, 0.0, 0.0 };
+    integ_t c;
+    integ_init(&c, m, x[X_THETA]);
     for (int k = 0; k < n; k++) {
-        integrate_substep(m, x, dt_s / n);
+        integrate_substep(&c, x, dt_s / n);
     }
     m->s.id_a = x[X_ID];
     m->s.iq_a = x[X_IQ];
