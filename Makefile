@@ -172,11 +172,17 @@ STM32_PART_STM32F103xD := 384 64 STM32F10X_HD 60
 STM32_PART_STM32F103xE := 512 64 STM32F10X_HD 60
 STM32_PART_INFO := $(STM32_PART_$(STM32_PART))
 STM32_OPT    ?= -O2
+# The port samples mid-period and TIM1 loads the duties at the next
+# update: the voltage is centred 1.0 period after the sample (config.h
+# SAMPLE_DELAY_PERIODS; measured by make pil, docs/pil.md).  The port's
+# experimental STM32_UPDATE_AT_TOP build restores 1.5.
+STM32_SAMPLE_DELAY ?= $(if $(findstring STM32_UPDATE_AT_TOP,$(STM32_DEFS)),1.5,1.0)
 STM32_CC     := arm-none-eabi-gcc
 STM32_CFLAGS := -mcpu=cortex-m3 -mthumb $(STM32_OPT) -std=c99 -g -ffunction-sections \
                 -fdata-sections -fno-common -Wall -Wextra -Wconversion \
                 -Wsign-conversion -Wshadow -Wstrict-prototypes \
                 -Wmissing-prototypes -Werror -D$(word 3,$(STM32_PART_INFO)) \
+                -DSAMPLE_DELAY_PERIODS=$(STM32_SAMPLE_DELAY) \
                 -DFOC_USERPARMS_FILE='"$(STM32_PARMS)"' -Iinclude \
                 -I$(STM32_HAL) -I$(STM32_BOARD) \
                 $(if $(STM32_CMSIS),-DFOC_STM32_VENDOR_CMSIS $(addprefix -isystem ,$(STM32_CMSIS))) \

@@ -5,9 +5,6 @@
 #include "foc/sqrt.h"
 #include "foc/svm.h"
 
-/* Angle advance for the inverse Park: the voltage computed now is applied
- * during the next period, whose middle is 1.5 periods ahead. */
-#define ADVANCE_GAIN Q15(1.5 * FOC_DTHETA_AT_BASE / 32768.0)
 
 #ifdef OPEN_LOOP_FUNCTIONING
 #define OPEN_LOOP_ONLY 1u
@@ -142,6 +139,14 @@ static void current_loop(foc_ctrl_t *c, uint8_t forced)
      * steps ago (the PWM unit applies duties one period late), plus the
      * dead-time error for the current that flowed then. */
     foc_ab_t v_applied = c->v_ab_prev;
+    if (FOC_V_NEW_WEIGHT != 0) {
+        /* duties loaded mid-way between two samples: part of the last
+         * command acted too (SAMPLE_DELAY_PERIODS < 1.5) */
+        v_applied.alpha = (q15_t)(v_applied.alpha +
+                                  ((((int32_t)c->v_ab.alpha - v_applied.alpha) * FOC_V_NEW_WEIGHT) >> 15));
+        v_applied.beta = (q15_t)(v_applied.beta +
+                                 ((((int32_t)c->v_ab.beta - v_applied.beta) * FOC_V_NEW_WEIGHT) >> 15));
+    }
     if (c->opt.deadtime_comp != 0u) {
         const foc_ab_t i_mid = { (q15_t)(((int32_t)i_last.alpha + c->i_ab.alpha) >> 1),
                                  (q15_t)(((int32_t)i_last.beta + c->i_ab.beta) >> 1) };
@@ -169,7 +174,7 @@ static void current_loop(foc_ctrl_t *c, uint8_t forced)
         c->v_dq.q = foc_cc_q_axis(&c->current_ctrl, c->i_ref.q, c->i_dq.q, c->v_dq.d, v_max);
     }
 
-    const q15_t advance = foc_mul_q15(speed, ADVANCE_GAIN);
+    const q15_t advance = foc_mul_q15(speed, FOC_ADVANCE_GAIN);
     const foc_sincos_t sc_v = foc_sincos_q15((uint16_t)(theta + (uint16_t)advance));
     c->v_ab = foc_ipark_q15(c->v_dq, sc_v);
     if (c->opt.deadtime_comp != 0u) {
@@ -205,6 +210,7 @@ void foc_fast_step(foc_ctrl_t *c)
         foc_startup_fast(&c->startup);
         current_loop(c, 1u);
         break;
+    case FOC_STATE_CATCH:
     case FOC_STATE_RUN:
     case FOC_STATE_STOP:
     case FOC_STATE_BRAKE:
@@ -244,9 +250,39 @@ static void begin_start(foc_ctrl_t *c)
     if (c->est.use_sensor != 0u) {
         foc_sc_preset(&c->speed_ctrl, c->est.speed, 0);
         enter(c, FOC_STATE_RUN);
-    } else {
+    } else if (c->opt.open_loop_only != 0u) {
         enter(c, FOC_STATE_ALIGN);
+    } else {
+        enter(c, FOC_STATE_CATCH);
     }
+}
+
+/* CATCH: zero current on the estimator's angle, so the bridge applies
+ * the back-EMF of a rotor that turns and the estimator locks onto it.  At
+ * the end, a reliable estimate above the start-up minimum is a rotor
+ * turning on its own: RUN at its speed, in its direction (the speed loop
+ * then follows the command, through a reversal if need be).  Otherwise
+ * the normal start: alignment. */
+static void catch_tick(foc_ctrl_t *c)
+{
+    foc_speed_stats_push(&c->speed_stats, c->est.est_speed);
+    if (c->state_ticks < FOC_CATCH_TICKS) {
+        return;
+    }
+    const q15_t mean = foc_speed_stats_mean(&c->speed_stats);
+    if (foc_speed_stats_reliable(&c->speed_stats, FOC_STARTUP_VARIANCE_THRESHOLD) &&
+        foc_abs_q15(mean) >= FOC_STARTUP_MIN_SPEED &&
+        foc_est_emf_consistent(&c->est, FOC_STALL_EMF_RATIO)) {
+        c->direction = (mean < 0) ? (int8_t)-1 : (int8_t)1;
+        foc_sc_preset(&c->speed_ctrl, c->est.est_speed, 0);
+        enter(c, FOC_STATE_RUN);
+        return;
+    }
+    const foc_est_input_t in = { zero_ab, zero_ab, 0, c->samples.theta_sensor };
+    foc_est_reset(&c->est, &in, 0);
+    foc_cc_reset(&c->current_ctrl);
+    foc_speed_stats_reset(&c->speed_stats);
+    enter(c, FOC_STATE_ALIGN);
 }
 
 /* ST's convergence test on the estimated speed (seed 002) against the
@@ -494,11 +530,14 @@ static void state_machine(foc_ctrl_t *c)
             begin_start(c);
         }
         break;
+    case FOC_STATE_CATCH:
     case FOC_STATE_ALIGN:
     case FOC_STATE_OPENLOOP:
         if (c->req.stop != 0u) {
             outputs_off(c);
             enter(c, FOC_STATE_IDLE);
+        } else if (c->state == FOC_STATE_CATCH) {
+            catch_tick(c);
         } else {
             startup_tick(c);
         }
@@ -539,7 +578,8 @@ void foc_slow_step(foc_ctrl_t *c)
         c->start_ticks++;
     }
     /* the winding heats with the current of the loop, cools otherwise */
-    const uint8_t loop_on = (uint8_t)(c->state >= FOC_STATE_ALIGN && c->state <= FOC_STATE_BRAKE &&
+    const uint8_t loop_on = (uint8_t)(((c->state >= FOC_STATE_ALIGN && c->state <= FOC_STATE_BRAKE) ||
+                                       c->state == FOC_STATE_CATCH) &&
                                       c->shorting == 0u);
     const uint16_t faults =
         (uint16_t)(foc_protection_check(&c->protection, c->samples.vdc, c->samples.temp) |
@@ -582,7 +622,7 @@ void foc_cmd_speed(foc_ctrl_t *c, q15_t speed)
 const char *foc_state_name(foc_state_t s)
 {
     static const char *const names[] = {
-        "IDLE", "CALIB", "ALIGN", "OPENLOOP", "RUN", "STOP", "BRAKE", "FAULT",
+        "IDLE", "CALIB", "ALIGN", "OPENLOOP", "RUN", "STOP", "BRAKE", "FAULT", "CATCH",
     };
     return ((unsigned)s < sizeof names / sizeof names[0]) ? names[s] : "?";
 }

@@ -19,7 +19,7 @@ import math
 import sys
 
 # foc_state_name() order (include/foc/controller.h, foc_state_t).
-STATE_NAMES = ["IDLE", "CALIB", "ALIGN", "OPENLOOP", "RUN", "STOP", "BRAKE", "FAULT"]
+STATE_NAMES = ["IDLE", "CALIB", "ALIGN", "OPENLOOP", "RUN", "STOP", "BRAKE", "FAULT", "CATCH"]
 
 
 class DumpError(Exception):

@@ -585,6 +585,27 @@ FOC_STATIC_ASSERT(STOP_SPEED_RPM >= 0.0 && STOP_SPEED_RPM < SPEED_BASE_RPM,
 #ifndef OVERSPEED_MARGIN
 #define OVERSPEED_MARGIN 0.1 /* overspeed fault above (1 + margin) x max speed */
 #endif
+/* Sample to voltage: the voltage computed from the sample of period k is
+ * centred SAMPLE_DELAY_PERIODS periods after that sample.  1.5 where the
+ * port samples at the start of a period and the duties load at its end
+ * (focsim's model); 1.0 where it samples mid-period and loads at the next
+ * boundary (the STM32 port, measured by make pil: docs/pil.md). */
+#ifndef SAMPLE_DELAY_PERIODS
+#define SAMPLE_DELAY_PERIODS 1.5
+#endif
+/* The inverse Park's advance, and the share of the last command in the
+ * voltage that acted between the last two samples (0 for 1.5, 1/2 for 1.0). */
+#define FOC_ADVANCE_GAIN Q15(SAMPLE_DELAY_PERIODS * FOC_DTHETA_AT_BASE / 32768.0)
+#define FOC_V_NEW_WEIGHT Q15(1.5 - SAMPLE_DELAY_PERIODS)
+FOC_STATIC_ASSERT(SAMPLE_DELAY_PERIODS >= 1.0 && SAMPLE_DELAY_PERIODS <= 1.5,
+                  "SAMPLE_DELAY_PERIODS must be in [1.0, 1.5]");
+
+#ifndef CATCH_TIME_S
+#define CATCH_TIME_S 0.04 /* start: time the estimator looks for a turning rotor */
+#endif
+/* CATCH lasts at least the speed statistic's 64 slow ticks. */
+#define FOC_CATCH_TICKS                                                        \
+    (FOC_TICKS(CATCH_TIME_S) > 64u ? FOC_TICKS(CATCH_TIME_S) : (uint16_t)64u)
 /* The speed command is clamped to +-MOTOR_MAX_SPEED_RPM. */
 #define FOC_MAX_SPEED FOC_SPEED_Q15(MOTOR_MAX_SPEED_RPM)
 #define FOC_OVERSPEED FOC_SPEED_Q15(MOTOR_MAX_SPEED_RPM * (1.0 + OVERSPEED_MARGIN))

@@ -22,7 +22,10 @@
  *
  * States:
  *   IDLE --start--> CALIB (outputs off, current offsets)
- *     sensorless: --> ALIGN --> OPENLOOP (forced angle, estimator running)
+ *     sensorless: --> CATCH (zero current, the estimator running: a rotor
+ *                 already turning is caught and goes to RUN at its own
+ *                 speed) --> ALIGN --> OPENLOOP (forced angle, estimator
+ *                 running)
  *                 --estimator converged--> RUN (bumpless hand-over)
  *                 no convergence within STARTUP_TIMEOUT_S: STARTUP_FAILED
  *     sensored (or the host's sensored start): --> RUN
@@ -62,8 +65,10 @@ typedef enum {
     FOC_STATE_RUN,
     FOC_STATE_STOP,
     FOC_STATE_BRAKE,
-    FOC_STATE_FAULT
-} foc_state_t;
+    FOC_STATE_FAULT,
+    FOC_STATE_CATCH  /* start: zero current while the estimator looks */
+} foc_state_t;       /* for a rotor already turning (then RUN, else ALIGN) */
+#define FOC_STATE_LAST FOC_STATE_CATCH
 
 typedef enum {
     STOP_MODE_RAMP = 0,  /* ramp down, then outputs off */
@@ -146,7 +151,7 @@ void foc_cmd_ack(foc_ctrl_t *c);
 /* Speed command, Q15 of SPEED_BASE_RPM (mechanical), signed. */
 void foc_cmd_speed(foc_ctrl_t *c, q15_t speed);
 
-/* "IDLE", "CALIB", "ALIGN", "OPENLOOP", "RUN", "STOP", "BRAKE", "FAULT". */
+/* "IDLE", "CALIB", "ALIGN", "OPENLOOP", "RUN", "STOP", "BRAKE", "FAULT", "CATCH". */
 const char *foc_state_name(foc_state_t s);
 
 #endif /* FOC_CONTROLLER_H */

@@ -151,7 +151,7 @@ static unsigned popcount16(uint16_t v)
 
 static void check_invariants(const foc_ctrl_t *c)
 {
-    if ((unsigned)c->state > (unsigned)FOC_STATE_FAULT) {
+    if ((unsigned)c->state > (unsigned)FOC_STATE_LAST) {
         fail("state outside the state machine", period_no);
     }
     if ((c->faults.active != 0u) != (c->state == FOC_STATE_FAULT)) {

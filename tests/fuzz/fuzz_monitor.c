@@ -172,7 +172,7 @@ static void run_periods(unsigned n, uint32_t seed)
             foc_slow_step(&ctrl);
         }
         ticks++;
-        if ((unsigned)ctrl.state > (unsigned)FOC_STATE_FAULT) {
+        if ((unsigned)ctrl.state > (unsigned)FOC_STATE_LAST) {
             fail("state outside the state machine");
         }
     }
