@@ -28,13 +28,40 @@ static void enter(foc_ctrl_t *c, foc_state_t s)
     c->state_ticks = 0;
 }
 
+/* Bridge off and no current asked; the fast step's voltages are zeroed
+ * by the next start's RESTART. */
 static void outputs_off(foc_ctrl_t *c)
 {
     foc_port_pwm_disable();
-    c->v_dq = zero_dq;
-    c->v_ab = zero_ab;
-    c->v_ab_prev = zero_ab;
     c->i_ref = zero_dq;
+}
+
+/* Posts work for the fast step's next period (controller.h). */
+static void post(foc_ctrl_t *c, foc_post_t what)
+{
+    c->post = (uint8_t)what;
+}
+
+/* The posted work, at the start of a fast step. */
+static void take_post(foc_ctrl_t *c)
+{
+    if (c->post == (uint8_t)FOC_POST_RESTART) {
+        const foc_est_input_t in = { zero_ab, zero_ab, 0, c->samples.theta_sensor };
+        foc_est_reset(&c->est, &in, c->post_on_sensor);
+        foc_cc_reset(&c->current_ctrl);
+        c->v_dq = zero_dq;
+        c->v_ab = zero_ab;
+        c->v_ab_prev = zero_ab;
+        c->duty = half_duty;
+        foc_port_set_duties(&c->duty);
+        if (c->state != FOC_STATE_IDLE && c->state != FOC_STATE_FAULT) {
+            foc_port_pwm_enable();
+        }
+    } else {
+        foc_cc_preset(&c->current_ctrl, c->post_v);
+        c->est.use_sensor = 0;
+    }
+    c->post = (uint8_t)FOC_POST_NONE;
 }
 
 static int32_t speed_squared(q15_t s)
@@ -108,6 +135,12 @@ void foc_init(foc_ctrl_t *c)
     c->samples.theta_sensor = 0;
     c->scope = NULL;
     c->forced_iq_max = FOC_CURRENT_LIMIT;
+    c->post = (uint8_t)FOC_POST_NONE;
+    c->post_on_sensor = 0;
+    c->post_v = zero_dq;
+    c->v_dq = zero_dq;
+    c->v_ab = zero_ab;
+    c->v_ab_prev = zero_ab;
     c->direction = 1;
     reset_run_state(c);
     outputs_off(c);
@@ -193,6 +226,9 @@ static void current_loop(foc_ctrl_t *c, uint8_t forced)
 void foc_fast_step(foc_ctrl_t *c)
 {
     foc_port_read_samples(&c->samples);
+    if (c->post != (uint8_t)FOC_POST_NONE) {
+        take_post(c);
+    }
     if (foc_port_overcurrent_latched() != 0u) {
         /* Once: the trip time starts the minimum time before an ack. */
         if ((c->faults.active & (uint16_t)FOC_FAULT_OVERCURRENT) == 0u) {
@@ -232,23 +268,18 @@ void foc_fast_step(foc_ctrl_t *c)
 static void begin_start(foc_ctrl_t *c)
 {
     c->direction = (c->req.speed < 0) ? (int8_t)-1 : (int8_t)1;
-    const uint8_t on_sensor = c->opt.sensored_start;
-    const foc_est_input_t in = { zero_ab, zero_ab, 0, c->samples.theta_sensor };
-    foc_est_reset(&c->est, &in, on_sensor);
-    foc_cc_reset(&c->current_ctrl);
+    const uint8_t on_sensor =
+        (uint8_t)(c->opt.sensored_start != 0u || c->est.kind == FOC_EST_SENSORED);
+    c->post_on_sensor = on_sensor;
+    post(c, FOC_POST_RESTART);
     foc_fw_reset(&c->fw);
     foc_speed_stats_reset(&c->speed_stats);
     foc_startup_begin(&c->startup, c->direction);
     reset_run_state(c);
     c->i_ref = zero_dq;
     c->forced_iq_max = FOC_CURRENT_LIMIT;
-    c->v_ab = zero_ab;
-    c->v_ab_prev = zero_ab;
-    c->duty = half_duty;
-    foc_port_set_duties(&c->duty);
-    foc_port_pwm_enable();
-    if (c->est.use_sensor != 0u) {
-        foc_sc_preset(&c->speed_ctrl, c->est.speed, 0);
+    if (on_sensor != 0u) {
+        foc_sc_preset(&c->speed_ctrl, 0, 0);
         enter(c, FOC_STATE_RUN);
     } else if (c->opt.open_loop_only != 0u) {
         enter(c, FOC_STATE_ALIGN);
@@ -278,9 +309,8 @@ static void catch_tick(foc_ctrl_t *c)
         enter(c, FOC_STATE_RUN);
         return;
     }
-    const foc_est_input_t in = { zero_ab, zero_ab, 0, c->samples.theta_sensor };
-    foc_est_reset(&c->est, &in, 0);
-    foc_cc_reset(&c->current_ctrl);
+    c->post_on_sensor = 0;
+    post(c, FOC_POST_RESTART);
     foc_speed_stats_reset(&c->speed_stats);
     enter(c, FOC_STATE_ALIGN);
 }
@@ -317,9 +347,9 @@ static void hand_over(foc_ctrl_t *c, uint16_t theta_from)
     const foc_sincos_t sc = foc_sincos_q15((uint16_t)(theta_from - c->est.est_theta));
     const foc_ab_t rotated = foc_ipark_q15(c->i_ref, sc);
     const foc_ab_t v_rotated = foc_ipark_q15(c->v_dq, sc);
-    const foc_dq_t v_est = { v_rotated.alpha, v_rotated.beta };
-    foc_cc_preset(&c->current_ctrl, v_est);
-    c->est.use_sensor = 0;
+    c->post_v.d = v_rotated.alpha;
+    c->post_v.q = v_rotated.beta;
+    post(c, FOC_POST_HANDOVER);
     c->direction = (c->est.est_speed < 0) ? (int8_t)-1 : (int8_t)1;
     c->i_ref.d = rotated.alpha;
     c->i_ref.q = rotated.beta;

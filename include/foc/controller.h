@@ -15,10 +15,19 @@
  * Commands (from buttons, the monitor or focsim) only set requests, which
  * the slow step acts on: foc_cmd_start/stop/ack/speed.
  *
- * Concurrency: the fast step may preempt the slow step.  The slow step
- * writes the current references and the state as single 16-bit stores
- * (atomic on both targets) and changes the state last, after preparing the
- * blocks the new state uses.
+ * Concurrency: the fast step may preempt the slow step (never the other
+ * way round).  Every field of foc_ctrl_t has one writer, marked below:
+ * [fast] the fast step, [slow] the slow step, [cmd] the foc_cmd_*()
+ * calls, [init] foc_init() and the application before the interrupts run.
+ * A field another context reads is at most 16 bits (one store on both
+ * targets) or read only where a torn value is harmless (documented).
+ * What the slow step needs done to fast-owned state (resetting the
+ * estimator and the current controllers for a start, presetting the
+ * controllers at the hand-over) it posts: it writes the request's data,
+ * then `post` (one byte store); the fast step does the work at the start
+ * of its next period and clears `post`.  A slow tick is several periods,
+ * so a request is always taken before the next is posted.  The slow step
+ * changes the state last, after posting.
  *
  * States:
  *   IDLE --start--> CALIB (outputs off, current offsets)
@@ -76,7 +85,17 @@ typedef enum {
     STOP_MODE_SHORT = 2  /* ramp to the safe speed, then low sides on */
 } foc_stop_mode_t;
 
-/* Requests from the application, consumed by the slow step. */
+/* Work posted by the slow step for the fast step (foc_ctrl_t.post). */
+typedef enum {
+    FOC_POST_NONE = 0,
+    FOC_POST_RESTART,  /* estimator from rest (post_on_sensor), current */
+                       /* controllers and voltages zero, duties at 1/2, */
+                       /* bridge on unless the state is IDLE or FAULT */
+    FOC_POST_HANDOVER  /* current controllers preset to post_v, the */
+                       /* estimator's own angle used from now on */
+} foc_post_t;
+
+/* Requests from the application, consumed by the slow step [cmd]. */
 typedef struct {
     uint8_t start;
     uint8_t stop;
@@ -97,45 +116,61 @@ typedef struct {
 } foc_options_t;
 
 typedef struct {
-    foc_state_t state;
-    foc_faults_t faults;
-    foc_requests_t req;
-    foc_options_t opt;
+    foc_state_t state;      /* [slow]; the fast step sets FAULT on an */
+                            /* over-current latch (then the slow step only */
+                            /* acknowledges) */
+    foc_faults_t faults;    /* [slow], [fast] on an over-current latch: */
+                            /* raised in the same period, the slow step */
+                            /* merges and clears only in FAULT */
+    foc_requests_t req;     /* [cmd]; the slow step clears the one-shots */
+    foc_options_t opt;      /* [init] (changeable in IDLE) */
+    uint8_t post;           /* foc_post_t: [slow] sets, [fast] clears */
+    uint8_t post_on_sensor; /* [slow] RESTART: run on the sensor */
+    foc_dq_t post_v;        /* [slow] HANDOVER: the controllers' voltage */
 
     /* last period's measurements and commands (Q15 per-unit) */
-    foc_samples_t samples;
-    foc_ab_t i_ab;
-    foc_dq_t i_dq;
-    foc_dq_t i_ref;       /* written by the slow step */
-    foc_dq_t v_dq;        /* voltage command, Q15 of the voltage base */
-    foc_ab_t v_ab;        /* the same in the stator frame: applied during */
-                          /* the next period */
-    foc_ab_t v_ab_prev;   /* computed one step earlier: being applied now */
-    foc_duty_t duty;
+    foc_samples_t samples;  /* [fast]; the slow step reads vdc, temp */
+    foc_ab_t i_ab;          /* [fast] */
+    foc_dq_t i_dq;          /* [fast]; I2t reads it (a torn pair is one */
+                            /* period's mix) */
+    foc_dq_t i_ref;         /* [slow] current references */
+    foc_dq_t v_dq;          /* [fast] voltage command, Q15 of the voltage */
+                            /* base; field weakening reads its magnitude */
+    foc_ab_t v_ab;          /* [fast] the same in the stator frame: */
+                            /* applied during the next period */
+    foc_ab_t v_ab_prev;     /* [fast] computed one step earlier: being */
+                            /* applied now */
+    foc_duty_t duty;        /* [fast] */
 
-    foc_current_sense_t current_sense;
-    foc_current_ctrl_t current_ctrl;
-    foc_speed_ctrl_t speed_ctrl;
-    foc_fw_t fw;
-    foc_bus_t bus;
-    foc_estimator_t est;
-    foc_startup_t startup;
-    foc_speed_stats_t speed_stats;
-    foc_protection_t protection;
-    foc_supervision_t sup;
+    foc_current_sense_t current_sense; /* [slow] starts a calibration in */
+                                       /* IDLE, [fast] sums in CALIB */
+    foc_current_ctrl_t current_ctrl;   /* [fast] (gains [init]) */
+    foc_speed_ctrl_t speed_ctrl;       /* [slow] */
+    foc_fw_t fw;                       /* [slow] */
+    foc_bus_t bus;                     /* [slow]; v_max and comp_q14 are */
+                                       /* 16-bit, read by the fast step */
+    foc_estimator_t est;               /* [fast]; [slow] sets the field- */
+                                       /* weakening constants (16-bit) */
+    foc_startup_t startup;             /* [slow]; [fast] advances theta32 */
+                                       /* in ALIGN and OPENLOOP only */
+    foc_speed_stats_t speed_stats;     /* [slow] */
+    foc_protection_t protection;       /* [slow] */
+    foc_supervision_t sup;             /* [slow] */
 
-    int8_t direction;       /* +1 / -1: direction of the present run */
-    uint8_t converged_ticks; /* consecutive start-up convergence tests */
-    uint8_t shorting;       /* BRAKE: windings shorted */
-    q15_t handover_id;      /* forced d current fading out after hand-over */
-    q15_t forced_iq_max;    /* start-up: the q current the forced d current */
-                            /* leaves inside the limit (slow step) */
-    uint16_t start_ticks;   /* slow ticks since `start` (start-up timeout) */
-    uint16_t unreliable_ticks; /* stall detection counters */
-    uint16_t emf_low_ticks;
-    uint16_t state_ticks;   /* slow ticks spent in the present state */
-    struct foc_scope *scope; /* NULL: none (debug outputs id, iq); the */
-                             /* application attaches one after foc_init */
+    int8_t direction;       /* [slow] +1 / -1: direction of the present run */
+    uint8_t converged_ticks; /* [slow] consecutive start-up convergence tests */
+    uint8_t shorting;       /* [slow] BRAKE: windings shorted */
+    q15_t handover_id;      /* [slow] forced d current fading out after */
+                            /* the hand-over */
+    q15_t forced_iq_max;    /* [slow] start-up: the q current the forced d */
+                            /* current leaves inside the limit */
+    uint16_t start_ticks;   /* [slow] slow ticks since `start` (start-up */
+                            /* timeout; in RUN, a reversal's ramp down) */
+    uint16_t unreliable_ticks; /* [slow] stall detection counters */
+    uint16_t emf_low_ticks;    /* [slow] */
+    uint16_t state_ticks;   /* [slow] slow ticks spent in the present state */
+    struct foc_scope *scope; /* [init] NULL: none (debug outputs id, iq); */
+                             /* the application attaches one after foc_init */
 } foc_ctrl_t;
 
 /* Everything to rest: IDLE, no fault, outputs off, options from

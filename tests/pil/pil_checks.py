@@ -4,10 +4,11 @@
     pil_checks.py <check> --elf E --plant-lib L --layout O [--focsim F]
     pil_checks.py long --build build/pil      (make pil: the long checks)
 
-Short checks (ctest): boot, monitor, watchdog, break, locked, step.
+Short checks (ctest): boot, monitor, watchdog, break, locked, step, and
+overruns0 (0 overruns counted by the firmware over the default scenario).
 Long checks (make pil only): agreement with focsim at 1000 and 3000 rpm,
-and `overruns0`, 0 overruns at the board's PWM rate, which fails until the
-core meets its deadline (issue 11).
+and `margin`: 0 overruns with the interrupt within 60 % of the deadline
+(issue 11's target, not met yet).
 
 The oracles read the plant's true state (speed, bridge state, currents)
 and the peripheral models, never what the firmware says about itself,
@@ -253,6 +254,11 @@ def c_overruns0(common):
           "cycles, deadline %s)" % (f.get("image_overruns"), f.get("pil_periods"),
                                    f.get("image_isr_cycles_avg"), f.get("image_isr_cycles_max"),
                                    f.get("image_deadline_cycles")))
+    return f
+
+
+def c_margin(common):
+    f = c_overruns0(common)
     dl = f.get("image_deadline_cycles", 0)
     check(f.get("image_isr_cycles_max", 1e9) <= 0.6 * dl,
           "ISR max within 60 %% of the deadline (issue 11 target: <= %d cycles, now %s)"
@@ -277,9 +283,10 @@ def main():
         focsim = opts.get("--focsim", "build/shinano/focsim")
         top = ["--elf", "build/stm32top/foc_stm32f10x.elf"] + common[2:]
         for nm, fn in (("agree", lambda: c_agree(common, focsim)),
-                       ("overruns0", lambda: c_overruns0(common)),
+                       ("margin (0 overruns, ISR within 60 % of the deadline)",
+                        lambda: c_margin(common)),
                        ("agree, STM32_UPDATE_AT_TOP build", lambda: c_agree(top, focsim)),
-                       ("overruns0, STM32_UPDATE_AT_TOP build", lambda: c_overruns0(top))):
+                       ("margin, STM32_UPDATE_AT_TOP build", lambda: c_margin(top))):
             print("=== pil check %s" % nm)
             n = len(FAILS)
             fn()
@@ -291,7 +298,8 @@ def main():
               "watchdog": lambda: c_watchdog(common), "break": lambda: c_break(common, focsim),
               "locked": lambda: c_locked(common, focsim), "step": lambda: c_step(common, focsim),
               "agree": lambda: c_agree(common, focsim),
-              "overruns0": lambda: c_overruns0(common)}[name]
+              "overruns0": lambda: c_overruns0(common),
+              "margin": lambda: c_margin(common)}[name]
         fn()
     if FAILS:
         print("pil checks: %d FAILED" % len(FAILS))
