@@ -227,7 +227,14 @@ void foc_fast_step(foc_ctrl_t *c)
 {
     foc_port_read_samples(&c->samples);
     if (c->post != (uint8_t)FOC_POST_NONE) {
+        const uint8_t restart = (uint8_t)(c->post == (uint8_t)FOC_POST_RESTART);
         take_post(c);
+        if (restart != 0u) {
+            /* the restart's period applies zero voltage (duties 1/2) and
+             * leaves the current loop to the next: one period's work */
+            foc_scope_tick(c->scope);
+            return;
+        }
     }
     if (foc_port_overcurrent_latched() != 0u) {
         /* Once: the trip time starts the minimum time before an ack. */
