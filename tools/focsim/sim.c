@@ -139,6 +139,7 @@ int sim_init(sim_t *s, const sim_options_t *o, const scn_t *scn, char *err,
     s->t_s = 0.0;
     s->closed_loop_time_s = -1.0;
     s->peak_current_a = 0.0;
+    s->slow_elsewhere = 0;
     return 0;
 }
 
@@ -240,7 +241,7 @@ int sim_step(sim_t *s, sim_row_t *row)
 
     foc_fast_step(&s->ctrl);
     port->fault_input = 0; /* the `overcurrent` event is a pulse; the latch holds */
-    if (s->period % CONTROL_SLOW_DIVIDER == 0u) {
+    if (s->period % CONTROL_SLOW_DIVIDER == 0u && s->slow_elsewhere == 0) {
         foc_slow_step(&s->ctrl);
     }
     if (s->closed_loop_time_s < 0.0 && s->ctrl.state == FOC_STATE_RUN) {

@@ -67,6 +67,8 @@ typedef struct {
     double t_s;
     double closed_loop_time_s;  /* first entry into RUN, -1 if never */
     double peak_current_a;      /* largest true |phase current| seen */
+    int slow_elsewhere;         /* 1: sim_step leaves foc_slow_step to the */
+                                /* caller (a test running it preempted) */
 } sim_t;
 
 /* Sets up model, port and controller; 0, or -1 with a message. */
