@@ -11,7 +11,8 @@ void foc_sup_init(foc_supervision_t *s)
 void foc_sup_run_reset(foc_supervision_t *s)
 {
     s->follow_ticks = 0;
-    s->follow_speed = 0;
+    s->follow_sum = 0;
+    s->follow_last = -1;
     s->overspeed_ticks = 0;
 }
 
@@ -49,30 +50,36 @@ uint16_t foc_sup_follow(foc_supervision_t *s, q15_t command, q15_t speed, q15_t 
                         q15_t iq_max)
 {
     const q15_t cmd = foc_abs_q15(command);
-    const q15_t w = foc_abs_q15(speed);
     /* at the limit: within 1/8 of it; a limit near zero (field weakening
      * took the current) counts as at the limit */
     const uint8_t limited = (uint8_t)((int32_t)foc_abs_q15(iq_ref) * 8 >= (int32_t)iq_max * 7);
     /* behind: below half the command, or turning the other way */
-    const uint8_t behind = (uint8_t)(cmd != 0 && ((int32_t)w * 2 < (int32_t)cmd ||
-                                                  (speed < 0) != (command < 0)));
+    const uint8_t behind =
+        (uint8_t)(cmd != 0 && ((int32_t)foc_abs_q15(speed) * 2 < (int32_t)cmd ||
+                               (speed < 0) != (command < 0)));
     if (limited == 0u || behind == 0u) {
         s->follow_ticks = 0;
+        s->follow_sum = 0;
+        s->follow_last = -1;
         return 0u;
     }
-    if (s->follow_ticks == 0u) {
-        s->follow_speed = w;
-    }
+    /* |command - speed| <= 2^16; a window of at most 2^14 ticks (config.h) */
+    const int32_t gap = (int32_t)command - (int32_t)speed;
+    s->follow_sum += (gap < 0) ? -gap : gap;
     s->follow_ticks++;
     const uint16_t window =
         (cmd >= FOC_FOLLOW_SPEED_SPLIT) ? FOC_FOLLOW_FAST_TICKS : FOC_FOLLOW_SLOW_TICKS;
     if (s->follow_ticks < window) {
         return 0u;
     }
-    /* a window over: gaining (a heavy load accelerating at the limit)
-     * starts another, not gaining is a rotor that does not follow */
+    /* a window over: its mean distance against the last window's */
+    const int32_t mean = s->follow_sum / (int32_t)window;
+    const int32_t last = s->follow_last;
     s->follow_ticks = 0;
-    const uint8_t gaining = (uint8_t)((int32_t)w - s->follow_speed >= FOC_FOLLOW_PROGRESS &&
-                                      (speed < 0) == (command < 0));
-    return gaining ? 0u : (uint16_t)FOC_FAULT_SPEED_FEEDBACK;
+    s->follow_sum = 0;
+    s->follow_last = mean;
+    if (last < 0 || last - mean >= FOC_FOLLOW_PROGRESS) {
+        return 0u; /* the first window, or gaining (a heavy load accelerating) */
+    }
+    return (uint16_t)FOC_FAULT_SPEED_FEEDBACK;
 }

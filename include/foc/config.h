@@ -89,7 +89,14 @@
 #define FOC_CURRENT_KI Q15(FOC_CURRENT_KI_PU)
 /* Back-calculation gain: Ki/Kp (the PI's own zero), the usual choice. */
 #define FOC_CURRENT_KC Q15(FOC_CURRENT_KI_PU / FOC_CURRENT_KP_PU)
-#define FOC_CURRENT_LIMIT FOC_I_Q15(CURRENT_LIMIT_A)
+/* The current references stay CURRENT_REF_MARGIN below CURRENT_LIMIT_A:
+ * the room the current loop's transients need (a load step, a plant whose
+ * inductance is half the parameter's) to keep the peak phase current within
+ * CURRENT_LIMIT_A + 5 % (docs/safety.md). */
+#ifndef CURRENT_REF_MARGIN
+#define CURRENT_REF_MARGIN 0.05
+#endif
+#define FOC_CURRENT_LIMIT FOC_I_Q15(CURRENT_LIMIT_A * (1.0 - CURRENT_REF_MARGIN))
 #define FOC_VOLTAGE_LIMIT Q15(VOLTAGE_LIMIT_FRACTION)
 
 /* ----------------------------------------------------- speed control -- */
@@ -624,18 +631,24 @@ FOC_STATIC_ASSERT(SAMPLE_DELAY_PERIODS >= 1.0 && SAMPLE_DELAY_PERIODS <= 1.5,
 #define FOC_I2T_CLEAR ((int32_t)1 << 19)
 /* A rotor that does not follow: the speed loop at its current limit, the
  * speed below half the command and not gaining on it, for this long
- * (above and below 10 % of the maximum speed; the speed loop needs some
- * tens of ms to reach its limit, inside the 200 / 500 ms of docs/safety.md). */
-#define FOC_FOLLOW_FAST_TICKS FOC_TICKS(0.12)
-#define FOC_FOLLOW_SLOW_TICKS FOC_TICKS(0.40)
+ * (two windows, above and below 10 % of the maximum speed; the speed loop
+ * needs some tens of ms to reach its limit, inside the 200 / 500 ms of
+ * docs/safety.md). */
+#define FOC_FOLLOW_FAST_TICKS FOC_TICKS(0.06)
+#define FOC_FOLLOW_SLOW_TICKS FOC_TICKS(0.20)
 #define FOC_FOLLOW_SPEED_SPLIT FOC_SPEED_Q15(0.1 * MOTOR_MAX_SPEED_RPM)
-#define FOC_FOLLOW_PROGRESS FOC_SPEED_Q15(0.01 * MOTOR_MAX_SPEED_RPM + 1.0)
+/* gaining: the mean distance to the command shrinks by this per window */
+#define FOC_FOLLOW_PROGRESS FOC_SPEED_Q15(0.002 * MOTOR_MAX_SPEED_RPM + 1.0)
+FOC_STATIC_ASSERT(FOC_FOLLOW_SLOW_TICKS < 16384 && FOC_FOLLOW_FAST_TICKS < 16384,
+                  "CONTROL_SLOW_DIVIDER too small for the follow windows");
 /* Transitional states end within their time (else coast, or a fault):
  * STOP and BRAKE the ramp from the maximum speed plus 0.5 s, a reversal's
  * ramp down the same. */
 #define FOC_RAMP_DOWN_TICKS                                                    \
     FOC_TICKS(MOTOR_MAX_SPEED_RPM / SPEED_RAMP_RPM_PER_S + 0.5)
 
+FOC_STATIC_ASSERT(CURRENT_REF_MARGIN >= 0.0 && CURRENT_REF_MARGIN < 0.5,
+                  "CURRENT_REF_MARGIN must be in [0, 0.5)");
 FOC_STATIC_ASSERT(MOTOR_THERMAL_TIME_S > 0.0 && FOC_I2T_K_Q30 >= 1 &&
                   FOC_I2T_K_Q30 < 1073741824,
                   "MOTOR_THERMAL_TIME_S out of range (0, 10^5 s]");
