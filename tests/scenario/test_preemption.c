@@ -31,10 +31,10 @@
 
 static const char *const SCENARIO =
     "0 start\n0 speed 1000\n0.6 speed -1000\n1.4 speed 1500\n2.3 stop\n"
-    "2.6 start\n2.6 speed 2000\n3.3 speed 500\n4.0 end\n";
+    "2.6 start\n2.6 speed 2000\n3.3 speed 1000\n4.0 end\n";
 /* (time, commanded rpm) just before each command changes */
 static const double CHECKS[][2] = {
-    { 0.59, 1000.0 }, { 1.39, -1000.0 }, { 2.29, 1500.0 }, { 3.29, 2000.0 }, { 3.99, 500.0 }
+    { 0.59, 1000.0 }, { 1.39, -1000.0 }, { 2.29, 1500.0 }, { 3.29, 2000.0 }, { 3.99, 1000.0 }
 };
 #define N_CHECKS (sizeof CHECKS / sizeof CHECKS[0])
 
