@@ -99,6 +99,7 @@ static void reset_run_state(foc_ctrl_t *c)
 {
     c->converged_ticks = 0;
     c->shorting = 0;
+    c->speed_limited = 0;
     c->handover_id = 0;
     c->start_ticks = 0;
     c->unreliable_ticks = 0;
@@ -408,6 +409,15 @@ static void speed_loop(foc_ctrl_t *c, q15_t target)
     c->handover_id = foc_slew_q15(c->handover_id, 0, FOC_HANDOVER_ID_STEP);
     c->i_ref.d = foc_add_q15(id_fw, c->handover_id);
     foc_est_set_fw(&c->est, c->fw.inv_kfi, c->fw.ls_scale);
+    /* Out of voltage (within 1/64 of the limit) with field weakening
+     * giving all it has (or off): no faster than now, and say so. */
+    const uint8_t no_voltage =
+        (uint8_t)((int32_t)v_mag * 64 >= (int32_t)c->bus.v_max * 63 &&
+                  (c->fw.mode == FW_MODE_OFF || id_fw <= (q15_t)(-FOC_FW_ID_MAX + FOC_FW_ID_MAX / 32)));
+    c->speed_limited = (uint8_t)(no_voltage != 0u && foc_abs_q15(target) > foc_abs_q15(c->est.speed));
+    if (c->speed_limited != 0u) {
+        foc_sc_hold(&c->speed_ctrl, c->est.speed);
+    }
     c->i_ref.q = foc_sc_step(&c->speed_ctrl, c->est.speed, c->i_ref.d);
 }
 

@@ -19,6 +19,16 @@ void foc_sc_preset(foc_speed_ctrl_t *sc, q15_t speed_meas, q15_t iq_now)
     foc_pi_preset(&sc->pi, iq_now);
 }
 
+void foc_sc_hold(foc_speed_ctrl_t *sc, q15_t speed_meas)
+{
+    /* only a reference beyond the speed, in the speed's direction */
+    const int32_t speed15 = (int32_t)speed_meas * 32768;
+    if ((speed_meas >= 0 && sc->ramped15 > speed15) || (speed_meas < 0 && sc->ramped15 < speed15)) {
+        sc->ramped15 = speed15;
+        sc->ramped = speed_meas;
+    }
+}
+
 q15_t foc_sc_iq_limit(q15_t id_ref)
 {
     const int32_t lim2 = (int32_t)FOC_CURRENT_LIMIT * FOC_CURRENT_LIMIT; /* Q30 */

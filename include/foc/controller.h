@@ -160,6 +160,8 @@ typedef struct {
     int8_t direction;       /* [slow] +1 / -1: direction of the present run */
     uint8_t converged_ticks; /* [slow] consecutive start-up convergence tests */
     uint8_t shorting;       /* [slow] BRAKE: windings shorted */
+    uint8_t speed_limited;  /* [slow] status: the command is beyond what the */
+                            /* voltage reaches; the speed is held there */
     q15_t handover_id;      /* [slow] forced d current fading out after */
                             /* the hand-over */
     q15_t forced_iq_max;    /* [slow] start-up: the q current the forced d */

@@ -30,6 +30,11 @@ void foc_sc_preset(foc_speed_ctrl_t *sc, q15_t speed_meas, q15_t iq_now);
 /* One slow tick: advances the ramp toward `target`, returns Iq reference. */
 q15_t foc_sc_step(foc_speed_ctrl_t *sc, q15_t speed_meas, q15_t id_ref);
 
+/* The ramp held at the measured speed where it has run beyond it (the
+ * voltage cannot take the motor faster): the speed settles at what is
+ * reachable instead of the speed loop winding up. */
+void foc_sc_hold(foc_speed_ctrl_t *sc, q15_t speed_meas);
+
 /* Iq available inside the current limit once Id has taken its share. */
 q15_t foc_sc_iq_limit(q15_t id_ref);
 

@@ -52,6 +52,7 @@ void run_scenario_with(const char *text, const sim_options_t *opt, run_t *out)
     out->final_state = sim.ctrl.state;
     out->fault = sim.ctrl.faults.first;
     out->on_estimator = sim.ctrl.est.use_sensor == 0u;
+    out->speed_limited = sim.ctrl.speed_limited;
     scn_free(&scn);
 }
 

@@ -17,6 +17,8 @@ typedef struct {
     foc_state_t final_state;
     uint16_t fault;
     int on_estimator;     /* at the end the loop ran on the estimator */
+    int speed_limited;    /* at the end the controller held the speed */
+                          /* where the voltage ran out */
 } run_t;
 
 /* Parses and runs `text` with the given options; exits the test program

@@ -108,6 +108,31 @@ static void case_field_weakening_max_speed(void)
     run_free(&r);
 }
 
+/* The maximum speed asked with field weakening off: 24 V cannot reach it.
+ * The speed settles where the voltage runs out (measured from the plant,
+ * and below the 3500 rpm asked), steady within 1 % over its last 0.3 s,
+ * current within the limit, no fault; the controller says so. */
+static void case_unreachable_speed_settles(void)
+{
+    sim_options_t opt;
+    sim_default_options(&opt);
+    opt.fw_mode = FW_MODE_OFF;
+    run_t r;
+    run_scenario_with("0 start\n0 speed 3500\n2.0 end\n", &opt, &r);
+    const double reached = run_mean_speed(&r, 1.7, 2.0);
+    const double early = run_mean_speed(&r, 1.4, 1.7);
+    const double peak = run_max_phase_current(&r, 0.0, 2.0);
+    printf("no field weakening: %.1f rpm (asked 3500), peak %.3f A, speed_limited %d\n", reached,
+           peak, r.speed_limited);
+    TK_CHECK(reached < 3400.0 && reached > 2500.0, "%.1f rpm", reached);
+    TK_CHECK(fabs(reached - early) <= 0.01 * reached, "not settled: %.1f then %.1f rpm", early,
+             reached);
+    TK_CHECK(peak <= LIMIT_A, "peak %.3f A", peak);
+    TK_CHECK(r.fault == 0, "fault %s", foc_fault_name(r.fault));
+    TK_CHECK(r.speed_limited == 1, "the controller does not report it");
+    run_free(&r);
+}
+
 /* Rotor locked in RUN: SPEED_FEEDBACK within 200 ms, outputs off. */
 static void case_stall_detected(void)
 {
@@ -307,7 +332,8 @@ static void case_fault_brake(void)
 }
 
 TK_CASES(TK_CASE(case_fault_brake), TK_CASE(case_startup_matrix), TK_CASE(case_locked_rotor_fails_startup),
-         TK_CASE(case_field_weakening_max_speed), TK_CASE(case_stall_detected),
+         TK_CASE(case_field_weakening_max_speed), TK_CASE(case_unreachable_speed_settles),
+         TK_CASE(case_stall_detected),
          TK_CASE(case_no_false_trip), TK_CASE(case_fault_overcurrent),
          TK_CASE(case_fault_overvoltage), TK_CASE(case_fault_undervoltage),
          TK_CASE(case_fault_overtemp), TK_CASE(case_braking))
