@@ -20,8 +20,9 @@ static void run_default(const char *text, run_t *r)
 }
 
 /* 12 rotor angles x loads {0, 0.02, 0.05} Nm x inertia {1, 5} x default:
- * every start reaches RUN and then the commanded 1000 rpm. */
-static void case_startup_matrix(void)
+ * every start reaches RUN and then the commanded 1000 rpm, with estimator
+ * `est`. */
+static void startup_matrix(foc_est_kind_t est)
 {
     const double loads[] = { 0.0, 0.02, 0.05 };
     const double inertias[] = { 1.0, 5.0 };
@@ -36,7 +37,7 @@ static void case_startup_matrix(void)
                          "0 plant j %g\n0 angle %d\n0 load %g\n0 start\n0 speed 1000\n1.6 end\n",
                          inertias[j] * MOTOR_INERTIA_KGM2, a, loads[l]);
                 run_t r;
-                run_default(text, &r);
+                run_scenario(text, est, &r);
                 const double t_run = run_first_state(&r, 0.0, "RUN");
                 const double speed = run_mean_speed(&r, 1.4, 1.6);
                 const int good = t_run >= 0.0 && r.final_state == FOC_STATE_RUN && r.fault == 0 &&
@@ -58,10 +59,25 @@ static void case_startup_matrix(void)
             }
         }
     }
-    printf("start-up: %d/%d reached RUN and 1000 rpm; worst start->RUN %.1f ms (%s)\n", ok,
-           total, worst * 1e3, worst_case);
+    printf("start-up (%s): %d/%d reached RUN and 1000 rpm; worst start->RUN %.1f ms (%s)\n",
+           foc_est_name(est), ok, total, worst * 1e3, worst_case);
     TK_CHECK(ok == total, "%d of %d starts failed", total - ok, total);
     TK_CHECK(worst <= 0.5, "worst start->RUN %.1f ms > 500 ms", worst * 1e3);
+}
+
+static void case_startup_matrix(void)
+{
+    startup_matrix(FOC_ESTIMATOR);
+}
+
+static void case_startup_matrix_luenberger(void)
+{
+    startup_matrix(FOC_EST_LUENBERGER);
+}
+
+static void case_startup_matrix_flux(void)
+{
+    startup_matrix(FOC_EST_FLUX);
 }
 
 /* A rotor locked before `start` never reaches RUN: STARTUP_FAILED within
@@ -331,7 +347,8 @@ static void case_fault_brake(void)
     run_free(&r);
 }
 
-TK_CASES(TK_CASE(case_fault_brake), TK_CASE(case_startup_matrix), TK_CASE(case_locked_rotor_fails_startup),
+TK_CASES(TK_CASE(case_fault_brake), TK_CASE(case_startup_matrix), TK_CASE(case_startup_matrix_luenberger),
+         TK_CASE(case_startup_matrix_flux), TK_CASE(case_locked_rotor_fails_startup),
          TK_CASE(case_field_weakening_max_speed), TK_CASE(case_unreachable_speed_settles),
          TK_CASE(case_stall_detected),
          TK_CASE(case_no_false_trip), TK_CASE(case_fault_overcurrent),
