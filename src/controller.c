@@ -251,7 +251,11 @@ void foc_fast_step(foc_ctrl_t *c)
         break;
     case FOC_STATE_ALIGN:
     case FOC_STATE_OPENLOOP:
-        foc_startup_fast(&c->startup);
+        /* the forced angle: turned by the slow step in ALIGN, advanced at
+         * the forced speed here in OPENLOOP (one writer each) */
+        if (c->state == FOC_STATE_OPENLOOP) {
+            foc_startup_fast(&c->startup);
+        }
         current_loop(c, 1u);
         break;
     case FOC_STATE_CATCH:

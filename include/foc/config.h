@@ -426,6 +426,11 @@ FOC_STATIC_ASSERT(FOC_NORM_OK(FOC_SOBS_FF_X),
 #define FOC_ALIGN_CURRENT FOC_I_Q15(STARTUP_ALIGN_CURRENT_A)
 #define FOC_ALIGN_HALF_TICKS FOC_TICKS(STARTUP_ALIGN_TIME_S / 2.0)
 #define FOC_ALIGN_CURRENT_STEP FOC_STEP_PER_TICK(FOC_ALIGN_CURRENT, FOC_ALIGN_HALF_TICKS)
+/* The turn from the first alignment position to the start angle (90 deg,
+ * 2^30 in the 32-bit angle) over a twelfth of the second half (5 ms for
+ * the Hurst075's 0.12 s alignment), per tick. */
+#define FOC_ALIGN_TURN_TICKS (FOC_ALIGN_HALF_TICKS / 12u > 0u ? FOC_ALIGN_HALF_TICKS / 12u : 1u)
+#define FOC_ALIGN_TURN_STEP32 ((int32_t)(1073741824L / (int32_t)FOC_ALIGN_TURN_TICKS + 1))
 #define FOC_OL_FINAL_SPEED FOC_SPEED_Q15(STARTUP_FINAL_SPEED_RPM)
 #define FOC_OL_RAMP_TICKS FOC_TICKS(STARTUP_RAMP_TIME_S)
 /* Forced-speed step per slow tick in Q15.16, so the ramp time is exact. */

@@ -152,7 +152,8 @@ typedef struct {
     foc_estimator_t est;               /* [fast]; [slow] sets the field- */
                                        /* weakening constants (16-bit) */
     foc_startup_t startup;             /* [slow]; [fast] advances theta32 */
-                                       /* in ALIGN and OPENLOOP only */
+                                       /* in OPENLOOP only (the slow step */
+                                       /* turns it in ALIGN only) */
     foc_speed_stats_t speed_stats;     /* [slow] */
     foc_protection_t protection;       /* [slow] */
     foc_supervision_t sup;             /* [slow] */
