@@ -5,7 +5,6 @@
 #include "foc/sqrt.h"
 #include "foc/svm.h"
 
-
 #ifdef OPEN_LOOP_FUNCTIONING
 #define OPEN_LOOP_ONLY 1u
 #else

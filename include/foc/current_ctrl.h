@@ -83,7 +83,7 @@ static inline q15_t foc_cc_q_forced(foc_current_ctrl_t *cc, q15_t vq, q15_t iq_m
     vq = (vq > v_max) ? v_max : (vq < -v_max) ? (q15_t)-v_max : vq;
     const q15_t vq_max = foc_cc_outside(v_max, vd, vq) ? foc_cc_circle_q(v_max, vd) : v_max;
     vq = (vq > vq_max) ? vq_max : (vq < -vq_max) ? (q15_t)-vq_max : vq;
-    foc_pi_set_limits(&cc->pi_q, (q15_t)-vq_max, vq_max);
+    foc_pi_limit_next(&cc->pi_q, vq_max); /* the preset sets the integrator */
     foc_pi_preset(&cc->pi_q, vq);
     return vq;
 }

@@ -10,19 +10,8 @@
 set -u
 src=$1 out=$2 frames=$3 parms=$4 replay=$5
 
-missing=""
-command -v arm-none-eabi-gcc >/dev/null 2>&1 ||
-    missing="$missing gcc-arm-none-eabi libnewlib-arm-none-eabi"
-if [ ! -x /usr/bin/python3 ] ||
-   ! /usr/bin/python3 -c 'import unicorn, capstone, elftools' 2>/dev/null; then
-    missing="$missing python3 python3-unicorn python3-capstone python3-pyelftools"
-fi
-if [ -n "$missing" ]; then
-    echo "bench.bitexact_m3: FAIL: the Cortex-M3 toolchain or simulator is missing."
-    echo "  Install (Debian/Ubuntu): apt-get install$missing"
-    echo "  (the simulator runs on /usr/bin/python3 with Debian's modules)"
-    exit 1
-fi
+. "$src/tests/common/need_m3_sim.sh"
+need_m3_sim bench.bitexact_m3
 
 hash=$("$replay" "$frames" | sed -n 's/^hash=//p')
 if [ -z "$hash" ]; then

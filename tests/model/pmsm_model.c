@@ -321,6 +321,49 @@ double pmsm_torque(const pmsm_params_t *p, double id_a, double iq_a)
            (p->flux_wb * iq_a + (p->ld_h - p->lq_h) * id_a * iq_a);
 }
 
+/* The switching bridge in the stator frame, shared by electrical_pwm()
+ * and the RK4 kernel deriv_pwm_s(): the phase currents from the dq
+ * current, the duties less the dead-time loss of each, the winding voltage
+ * (the rotated alpha/beta voltage: Clarke drops the floating star point's
+ * common mode), the current derivatives and the bus current. */
+typedef struct {
+    double ud_v, uq_v, did_dt, diq_dt, bus_current_a;
+} pwm_winding_t;
+
+MODEL_INLINE pwm_winding_t pwm_winding(const integ_t *c, const double duty[PHASES],
+                                       double inv_band, double vdc, double co, double si,
+                                       double id, double iq, double we, double rs, double ld,
+                                       double lq, double flux)
+{
+    const double i_alpha = id * co - iq * si;
+    const double i_beta = id * si + iq * co;
+    const double half_sqrt3 = 0.5 * SQRT3;
+    const double i0 = i_alpha;
+    const double i1 = -0.5 * i_alpha + half_sqrt3 * i_beta;
+    const double i2 = -0.5 * i_alpha - half_sqrt3 * i_beta;
+    const double d0 = clamp01(duty[0] - deadtime_fraction(c, inv_band, i0));
+    const double d1 = clamp01(duty[1] - deadtime_fraction(c, inv_band, i1));
+    const double d2 = clamp01(duty[2] - deadtime_fraction(c, inv_band, i2));
+    const double v0 = vdc * d0;
+    const double v1 = vdc * d1;
+    const double v2 = vdc * d2;
+    const double v_alpha = (2.0 / 3.0) * (v0 - 0.5 * (v1 + v2));
+    const double v_beta = (1.0 / SQRT3) * (v1 - v2);
+    pwm_winding_t w;
+    w.ud_v = v_alpha * co + v_beta * si;
+    w.uq_v = -v_alpha * si + v_beta * co;
+    /* winding voltage that would hold the currents constant */
+    const double hold_d = rs * id - we * lq * iq;
+    const double hold_q = rs * iq + we * (ld * id + flux);
+    w.did_dt = (w.ud_v - hold_d) * c->inv_ld;
+    w.diq_dt = (w.uq_v - hold_q) * c->inv_lq;
+    w.bus_current_a = 0.0;
+    w.bus_current_a += d0 * i0;
+    w.bus_current_a += d1 * i1;
+    w.bus_current_a += d2 * i2;
+    return w;
+}
+
 /* electrical() with the bridge switching: the same equations through the
  * stator frame (the phase currents from i_alpha/i_beta, the winding
  * voltage as the rotated alpha/beta voltage), which needs a fraction of the
@@ -336,30 +379,14 @@ MODEL_INLINE electrical_t electrical_pwm(const integ_t *c, const double x[X_COUN
     double co;
     double si;
     integ_cos_sin(c, x[X_THETA], &co, &si);
-    const double i_alpha = id * co - iq * si;
-    const double i_beta = id * si + iq * co;
-    const double half_sqrt3 = 0.5 * SQRT3;
-    const double i_ph[PHASES] = { i_alpha, -0.5 * i_alpha + half_sqrt3 * i_beta,
-                                  -0.5 * i_alpha - half_sqrt3 * i_beta };
-    const double inv_band = deadtime_inv_band(c, vdc);
+    const pwm_winding_t w = pwm_winding(c, m->duty, deadtime_inv_band(c, vdc), vdc, co, si, id,
+                                        iq, we, p->rs_ohm, p->ld_h, p->lq_h, p->flux_wb);
     electrical_t e = { 0 };
-    double v_ph[PHASES];
-    for (int ph = 0; ph < PHASES; ph++) {
-        const double duty_eff = clamp01(m->duty[ph] - deadtime_fraction(c, inv_band, i_ph[ph]));
-        v_ph[ph] = vdc * duty_eff;
-        e.bus_current_a += duty_eff * i_ph[ph];
-    }
-    /* amplitude-invariant Clarke of the terminal voltages drops the common
-     * mode, i.e. the floating star point */
-    const double v_alpha = (2.0 / 3.0) * (v_ph[0] - 0.5 * (v_ph[1] + v_ph[2]));
-    const double v_beta = (1.0 / SQRT3) * (v_ph[1] - v_ph[2]);
-    e.ud_v = v_alpha * co + v_beta * si;
-    e.uq_v = -v_alpha * si + v_beta * co;
-    /* winding voltage that would hold the currents constant */
-    const double hold_d = p->rs_ohm * id - we * p->lq_h * iq;
-    const double hold_q = p->rs_ohm * iq + we * (p->ld_h * id + p->flux_wb);
-    e.did_dt = (e.ud_v - hold_d) * c->inv_ld;
-    e.diq_dt = (e.uq_v - hold_q) * c->inv_lq;
+    e.ud_v = w.ud_v;
+    e.uq_v = w.uq_v;
+    e.did_dt = w.did_dt;
+    e.diq_dt = w.diq_dt;
+    e.bus_current_a = w.bus_current_a;
     return e;
 }
 
@@ -524,28 +551,14 @@ MODEL_INLINE pwm_dx_t deriv_pwm_s(const pwm_step_t *k, double id, double iq, dou
     double co;
     double si;
     integ_cos_sin(c, th, &co, &si);
-    const double i_alpha = id * co - iq * si;
-    const double i_beta = id * si + iq * co;
-    const double half_sqrt3 = 0.5 * SQRT3;
-    const double i0 = i_alpha;
-    const double i1 = -0.5 * i_alpha + half_sqrt3 * i_beta;
-    const double i2 = -0.5 * i_alpha - half_sqrt3 * i_beta;
     const double inv_band = k->stiff_bus ? k->inv_band : deadtime_inv_band(c, vdc);
-    const double d0 = clamp01(k->duty[0] - deadtime_fraction(c, inv_band, i0));
-    const double d1 = clamp01(k->duty[1] - deadtime_fraction(c, inv_band, i1));
-    const double d2 = clamp01(k->duty[2] - deadtime_fraction(c, inv_band, i2));
-    const double v0 = vdc * d0;
-    const double v1 = vdc * d1;
-    const double v2 = vdc * d2;
-    const double v_alpha = (2.0 / 3.0) * (v0 - 0.5 * (v1 + v2));
-    const double v_beta = (1.0 / SQRT3) * (v1 - v2);
+    const pwm_winding_t w =
+        pwm_winding(c, k->duty, inv_band, vdc, co, si, id, iq, we, k->rs, k->ld, k->lq, k->flux);
     pwm_dx_t dx;
-    dx.vd = v_alpha * co + v_beta * si;
-    dx.vq = -v_alpha * si + v_beta * co;
-    const double hold_d = k->rs * id - we * k->lq * iq;
-    const double hold_q = k->rs * iq + we * (k->ld * id + k->flux);
-    dx.id = (dx.vd - hold_d) * c->inv_ld;
-    dx.iq = (dx.vq - hold_q) * c->inv_lq;
+    dx.vd = w.ud_v;
+    dx.vq = w.uq_v;
+    dx.id = w.did_dt;
+    dx.iq = w.diq_dt;
     dx.th = k->theta_moves ? k->pp * wm : 0.0;
     dx.wm = 0.0;
     if (k->wm_moves) {
@@ -555,13 +568,9 @@ MODEL_INLINE pwm_dx_t deriv_pwm_s(const pwm_step_t *k, double id, double iq, dou
     dx.vdc = 0.0;
     if (!k->stiff_bus) {
         const pmsm_params_t *p = k->p;
-        double bus_current_a = 0.0;
-        bus_current_a += d0 * i0;
-        bus_current_a += d1 * i1;
-        bus_current_a += d2 * i2;
         const double i_source = fmax(0.0, (p->vdc_source_v - vdc) * c->inv_source_r);
         const double i_brake = k->m->brake_resistor_on ? vdc / p->brake_r_ohm : 0.0;
-        dx.vdc = (i_source - bus_current_a - i_brake) * c->inv_cap;
+        dx.vdc = (i_source - w.bus_current_a - i_brake) * c->inv_cap;
     }
     return dx;
 }

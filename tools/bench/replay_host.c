@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "frames_file.h"
 #include "replay.h"
 
 int main(int argc, char **argv)
@@ -16,23 +17,14 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: bench_replay_host <frames.bin>\n");
         return 2;
     }
-    FILE *f = fopen(argv[1], "rb");
-    if (f == NULL) {
-        perror(argv[1]);
+    uint32_t len = 0;
+    uint8_t *data = bench_frames_load(argv[1], &len, "bench_replay_host");
+    if (data == NULL) {
         return 2;
     }
-    fseek(f, 0, SEEK_END);
-    const long len = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    uint8_t *data = malloc(len > 0 ? (size_t)len : 1u);
-    if (data == NULL || len <= 0 || fread(data, 1, (size_t)len, f) != (size_t)len) {
-        fprintf(stderr, "bench_replay_host: cannot read %s\n", argv[1]);
-        return 2;
-    }
-    fclose(f);
 
     static bench_result_t r;
-    bench_replay(data, (uint32_t)len, &r);
+    bench_replay(data, len, &r);
     if (r.status != 0) {
         fprintf(stderr, "bench_replay_host: %s: not a frame file of this build "
                 "(re-record it)\n", argv[1]);

@@ -17,7 +17,8 @@ NM        ?= nm
 CFLAGS    := -O1 -std=c99 -Iinclude -Itools/bench -DFOC_USERPARMS_FILE='"$(USERPARMS)"'
 COV       := -fprofile-instr-generate -fcoverage-mapping
 CORE_SRC  := $(wildcard src/*.c)
-HARNESS   := tools/bench/bench_io.c tools/bench/bench_port.c tools/bench/replay.c
+HARNESS   := tools/bench/bench_io.c tools/bench/bench_port.c tools/bench/replay.c \
+             tools/bench/frames_file.c
 COV_OBJ   := $(patsubst src/%.c,$(OUT)/cov/%.o,$(CORE_SRC))
 PLAIN_OBJ := $(patsubst src/%.c,$(OUT)/plain/%.o,$(CORE_SRC)) \
              $(patsubst tools/bench/%.c,$(OUT)/plain/%.o,$(HARNESS))

@@ -21,6 +21,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "frames_file.h"
 #include "replay.h"
 
 void u_foc_fast_step(foc_ctrl_t *c);
@@ -73,23 +74,14 @@ int main(int argc, char **argv)
         return 2;
     }
     count_slow = argc == 4 && argv[3][0] == 's';
-    FILE *f = fopen(argv[1], "rb");
-    if (f == NULL) {
-        perror(argv[1]);
+    uint32_t len = 0;
+    uint8_t *data = bench_frames_load(argv[1], &len, "dspic_replay");
+    if (data == NULL) {
         return 2;
     }
-    fseek(f, 0, SEEK_END);
-    const long len = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    uint8_t *data = malloc(len > 0 ? (size_t)len : 1u);
-    if (data == NULL || len <= 0 || fread(data, 1, (size_t)len, f) != (size_t)len) {
-        fprintf(stderr, "dspic_replay: cannot read %s\n", argv[1]);
-        return 2;
-    }
-    fclose(f);
     bench_scenario_mask = (uint32_t)strtoul(argv[2], NULL, 0);
     static bench_result_t r;
-    bench_replay(data, (uint32_t)len, &r);
+    bench_replay(data, len, &r);
     printf("steps=%lu\nframes=%u\nmismatches=%u\nloop_periods=%lu\n", steps,
            (unsigned)r.frames, (unsigned)r.mismatches, loop_periods);
     free(data);
