@@ -51,6 +51,7 @@ static void take_post(foc_ctrl_t *c)
         c->v_dq = zero_dq;
         c->v_ab = zero_ab;
         c->v_ab_prev = zero_ab;
+        c->i_ref_slewed = zero_dq;
         c->duty = half_duty;
         foc_port_set_duties(&c->duty);
         if (c->state != FOC_STATE_IDLE && c->state != FOC_STATE_FAULT) {
@@ -58,6 +59,7 @@ static void take_post(foc_ctrl_t *c)
         }
     } else {
         foc_cc_preset(&c->current_ctrl, c->post_v);
+        c->i_ref_slewed = c->i_ref;
         c->est.use_sensor = 0;
     }
     c->post = (uint8_t)FOC_POST_NONE;
@@ -138,6 +140,8 @@ void foc_init(foc_ctrl_t *c)
     c->post = (uint8_t)FOC_POST_NONE;
     c->post_on_sensor = 0;
     c->post_v = zero_dq;
+    c->i_ref_slewed = zero_dq;
+    c->advance_sc = foc_sincos_q15(0);
     c->v_dq = zero_dq;
     c->v_ab = zero_ab;
     c->v_ab_prev = zero_ab;
@@ -165,6 +169,18 @@ static q15_t forced_vq(q15_t speed, q15_t id)
  * it has converged by the hand-over. */
 static void current_loop(foc_ctrl_t *c, uint8_t forced)
 {
+    /* The slow step's references, stepped once per slow tick, approached
+     * by FOC_IREF_STEP_BITS per period on the estimated angle: a torque
+     * reversal spread over a slow tick does not make the current loop
+     * overshoot. */
+    if (forced != 0u) {
+        c->i_ref_slewed = c->i_ref; /* the start-up ramps its own */
+    } else {
+        c->i_ref_slewed.d = (q15_t)(c->i_ref_slewed.d +
+                                    FOC_SAT_BITS((int32_t)c->i_ref.d - c->i_ref_slewed.d, FOC_IREF_STEP_BITS));
+        c->i_ref_slewed.q = (q15_t)(c->i_ref_slewed.q +
+                                    FOC_SAT_BITS((int32_t)c->i_ref.q - c->i_ref_slewed.q, FOC_IREF_STEP_BITS));
+    }
     const foc_ab_t i_last = c->i_ab;
     c->i_ab = foc_cs_alphabeta(&c->current_sense, &c->samples, c->i_ab);
 
@@ -187,7 +203,7 @@ static void current_loop(foc_ctrl_t *c, uint8_t forced)
         v_applied.alpha = foc_add_q15(v_applied.alpha, err.alpha);
         v_applied.beta = foc_add_q15(v_applied.beta, err.beta);
     }
-    const foc_est_input_t in = { v_applied, c->i_ab, c->i_ref.q, c->samples.theta_sensor };
+    const foc_est_input_t in = { v_applied, c->i_ab, c->i_ref_slewed.q, c->samples.theta_sensor };
     foc_est_step(&c->est, &in);
     c->v_ab_prev = c->v_ab;
 
@@ -195,26 +211,26 @@ static void current_loop(foc_ctrl_t *c, uint8_t forced)
     const uint16_t theta = (forced != 0u) ? foc_startup_angle(&c->startup) : c->est.theta;
     const q15_t speed = (forced != 0u) ? c->startup.speed : c->est.speed;
 
-    c->i_dq = foc_park_q15(c->i_ab, foc_sincos_q15(theta));
+    const foc_sincos_t sc = foc_sincos_q15(theta);
+    c->i_dq = foc_park_q15(c->i_ab, sc);
     /* d first, with the whole voltage: AN1292's d-axis priority */
     const q15_t v_max = c->bus.v_max;
-    c->v_dq.d = foc_cc_d_axis(&c->current_ctrl, c->i_ref.d, c->i_dq.d, v_max);
+    c->v_dq.d = foc_cc_d_axis(&c->current_ctrl, c->i_ref_slewed.d, c->i_dq.d, v_max);
     if (forced != 0u) {
         /* the q swing current may use what the d current leaves */
-        c->v_dq.q = foc_cc_q_forced(&c->current_ctrl, forced_vq(speed, c->i_ref.d), c->i_dq.q,
+        c->v_dq.q = foc_cc_q_forced(&c->current_ctrl, forced_vq(speed, c->i_ref_slewed.d), c->i_dq.q,
                                     c->forced_iq_max, c->v_dq.d, v_max);
     } else {
-        c->v_dq.q = foc_cc_q_axis(&c->current_ctrl, c->i_ref.q, c->i_dq.q, c->v_dq.d, v_max);
+        c->v_dq.q = foc_cc_q_axis(&c->current_ctrl, c->i_ref_slewed.q, c->i_dq.q, c->v_dq.d, v_max);
     }
 
-    const q15_t advance = foc_mul_q15(speed, FOC_ADVANCE_GAIN);
-    const foc_sincos_t sc_v = foc_sincos_q15((uint16_t)(theta + (uint16_t)advance));
+    const foc_sincos_t sc_v = foc_sincos_sum(sc, c->advance_sc);
     c->v_ab = foc_ipark_q15(c->v_dq, sc_v);
     if (c->opt.deadtime_comp != 0u) {
         /* cancel the dead-time error of the next period's current: the
          * reference turned on by 1.5 periods of rotation */
         const foc_ab_t corr =
-            foc_deadtime_correction_ab(foc_iclarke_q15(foc_ipark_q15(c->i_ref, sc_v)));
+            foc_deadtime_correction_ab(foc_iclarke_q15(foc_ipark_q15(c->i_ref_slewed, sc_v)));
         c->v_ab.alpha = foc_add_q15(c->v_ab.alpha, corr.alpha);
         c->v_ab.beta = foc_add_q15(c->v_ab.beta, corr.beta);
     }
@@ -360,10 +376,10 @@ static void hand_over(foc_ctrl_t *c, uint16_t theta_from)
     const foc_ab_t v_rotated = foc_ipark_q15(c->v_dq, sc);
     c->post_v.d = v_rotated.alpha;
     c->post_v.q = v_rotated.beta;
-    post(c, FOC_POST_HANDOVER);
     c->direction = (c->est.est_speed < 0) ? (int8_t)-1 : (int8_t)1;
     c->i_ref.d = rotated.alpha;
     c->i_ref.q = rotated.beta;
+    post(c, FOC_POST_HANDOVER); /* after i_ref: the fast step starts from it */
     c->handover_id = c->i_ref.d;
     foc_sc_preset(&c->speed_ctrl, c->est.est_speed, c->i_ref.q);
     enter(c, FOC_STATE_RUN);
@@ -644,6 +660,11 @@ void foc_slow_step(foc_ctrl_t *c)
         }
     }
     state_machine(c);
+    /* the inverse Park's advance for the fast step: SAMPLE_DELAY_PERIODS
+     * of rotation at the speed of the frame it runs in */
+    const uint8_t forced = (uint8_t)(c->state == FOC_STATE_ALIGN || c->state == FOC_STATE_OPENLOOP);
+    const q15_t speed = (forced != 0u) ? c->startup.speed : c->est.speed;
+    c->advance_sc = foc_sincos_q15((uint16_t)foc_mul_q15(speed, FOC_ADVANCE_GAIN));
 }
 
 void foc_cmd_start(foc_ctrl_t *c)

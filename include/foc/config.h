@@ -97,6 +97,11 @@
 #define CURRENT_REF_MARGIN 0.05
 #endif
 #define FOC_CURRENT_LIMIT FOC_I_Q15(CURRENT_LIMIT_A * (1.0 - CURRENT_REF_MARGIN))
+/* The fast step's slew of the current references: at most 2^(bits-1) - 1
+ * (Q15) per PWM period, the smallest such step that crosses the whole range
+ * (-limit to +limit) within one slow tick (one SSAT). */
+#define FOC_IREF_STEP_BITS                                                     \
+    (1 + FOC_GAIN_SHIFT(2.0 * FOC_I_Q15(CURRENT_LIMIT_A * (1.0 - CURRENT_REF_MARGIN)) / CONTROL_SLOW_DIVIDER))
 #define FOC_VOLTAGE_LIMIT Q15(VOLTAGE_LIMIT_FRACTION)
 
 /* ----------------------------------------------------- speed control -- */

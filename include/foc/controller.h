@@ -134,6 +134,12 @@ typedef struct {
     foc_dq_t i_dq;          /* [fast]; I2t reads it (a torn pair is one */
                             /* period's mix) */
     foc_dq_t i_ref;         /* [slow] current references */
+    foc_sincos_t advance_sc; /* [slow] sin/cos of the inverse Park's */
+                             /* advance (SAMPLE_DELAY_PERIODS of rotation) */
+    foc_dq_t i_ref_slewed;  /* [fast] i_ref approached by a step of */
+                            /* FOC_IREF_STEP_BITS */
+                            /* per period (equal to it in the forced */
+                            /* frame) */
     foc_dq_t v_dq;          /* [fast] voltage command, Q15 of the voltage */
                             /* base; field weakening reads its magnitude */
     foc_ab_t v_ab;          /* [fast] the same in the stator frame: */

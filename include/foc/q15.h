@@ -54,6 +54,20 @@ static inline q15_t foc_sat_q15(int32_t x)
 #endif
 }
 
+/* x limited to [-2^(bits-1), 2^(bits-1) - 1], bits a constant in 1..31:
+ * one SSAT on Cortex-M3, compares elsewhere (the same result). */
+static inline int32_t foc_sat_bits_portable(int32_t x, unsigned bits)
+{
+    const int32_t hi = (int32_t)((1UL << (bits - 1u)) - 1u);
+    return (x > hi) ? hi : (x < -hi - 1) ? (-hi - 1) : x;
+}
+
+#if defined(__ARM_FEATURE_SAT) && defined(__GNUC__) && !defined(FOC_PORTABLE_ONLY)
+#define FOC_SAT_BITS(x, bits) ((int32_t)__builtin_arm_ssat((x), (bits)))
+#else
+#define FOC_SAT_BITS(x, bits) foc_sat_bits_portable((x), (bits))
+#endif
+
 /* Saturating Q15 addition and subtraction (the 32-bit sum cannot overflow). */
 static inline q15_t foc_add_q15(q15_t a, q15_t b)
 {

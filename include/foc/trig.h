@@ -59,6 +59,16 @@ static inline foc_sincos_t foc_sincos_q15(uint16_t angle)
     return r;
 }
 
+/* sin and cos of the sum of two angles from theirs (a rotation, four
+ * products), Q15, rounded, saturated: cheaper than a table look-up. */
+static inline foc_sincos_t foc_sincos_sum(foc_sincos_t a, foc_sincos_t b)
+{
+    foc_sincos_t r;
+    r.sin = foc_sat_q15(((int32_t)a.sin * b.cos + (int32_t)a.cos * b.sin + 0x4000) >> 15);
+    r.cos = foc_sat_q15(((int32_t)a.cos * b.cos - (int32_t)a.sin * b.sin + 0x4000) >> 15);
+    return r;
+}
+
 /* sin(angle), Q15. */
 static inline q15_t foc_sin_q15(uint16_t angle)
 {
