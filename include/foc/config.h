@@ -97,11 +97,28 @@
 #define CURRENT_REF_MARGIN 0.05
 #endif
 #define FOC_CURRENT_LIMIT FOC_I_Q15(CURRENT_LIMIT_A * (1.0 - CURRENT_REF_MARGIN))
-/* The fast step's slew of the current references: at most 2^(bits-1) - 1
- * (Q15) per PWM period, the smallest such step that crosses the whole range
- * (-limit to +limit) within one slow tick (one SSAT). */
+/* The fast step's slew of the current references.  The estimators
+ * subtract L di/dt from the measured voltage: with the plant's inductance
+ * off by half (the envelope of docs/safety.md), a current changing at
+ * E / Lq (E the phase back-EMF at STARTUP_MIN_SPEED_RPM, the lowest
+ * estimated speed the loop runs at) fakes half that EMF, and faster, the
+ * estimate swings with every torque step and the speed loop chases it
+ * (docs/safety.md, "The current references' slew").  The slew is that
+ * rate, but a reversal (-limit to +limit) within 8 slow ticks at the
+ * slowest (the speed loop's own lag) and within one at the fastest;
+ * Q15 per PWM period, rounded down to 2^(bits-1) - 1 for one SSAT. */
+#define FOC_IREF_REVERSAL_PU (2.0 * CURRENT_LIMIT_A * (1.0 - CURRENT_REF_MARGIN) / FOC_I_BASE_A * 32768.0)
+#define FOC_IREF_STEP_EMF_PU                                                   \
+    (MOTOR_KE_VPK_PER_KRPM / FOC_SQRT3_D * STARTUP_MIN_SPEED_RPM / 1000.0 / MOTOR_LQ_H * FOC_TS_S / \
+     FOC_I_BASE_A * 32768.0)
+/* SSAT widths: the EMF rate rounded down, the bounds rounded up */
+#define FOC_IREF_BITS_EMF ((FOC_IREF_STEP_EMF_PU < 2.0) ? 2 : FOC_GAIN_SHIFT(FOC_IREF_STEP_EMF_PU))
+#define FOC_IREF_BITS_SLOWEST (1 + FOC_GAIN_SHIFT(FOC_IREF_REVERSAL_PU / (8.0 * CONTROL_SLOW_DIVIDER)))
+#define FOC_IREF_BITS_FASTEST (1 + FOC_GAIN_SHIFT(FOC_IREF_REVERSAL_PU / CONTROL_SLOW_DIVIDER))
 #define FOC_IREF_STEP_BITS                                                     \
-    (1 + FOC_GAIN_SHIFT(2.0 * FOC_I_Q15(CURRENT_LIMIT_A * (1.0 - CURRENT_REF_MARGIN)) / CONTROL_SLOW_DIVIDER))
+    ((FOC_IREF_BITS_EMF < FOC_IREF_BITS_SLOWEST)   ? FOC_IREF_BITS_SLOWEST                         \
+     : (FOC_IREF_BITS_EMF > FOC_IREF_BITS_FASTEST) ? FOC_IREF_BITS_FASTEST                         \
+                                                   : FOC_IREF_BITS_EMF)
 #define FOC_VOLTAGE_LIMIT Q15(VOLTAGE_LIMIT_FRACTION)
 
 /* ----------------------------------------------------- speed control -- */
