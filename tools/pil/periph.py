@@ -377,6 +377,7 @@ class Adc:
         self.regular_starts = 0  # conversions started by rewriting ADON
         self.sequences = 0
         self.ignored_triggers = 0
+        self.first_current_k = -1  # index of the first phase-current conversion
 
     def smp(self, ch):
         if ch < 10:
@@ -411,6 +412,7 @@ class Adc:
         ts = t + m.adc_latency * clk
         seq = self.sequence()
         self.sequences += 1
+        self.first_current_k = next((k for k, (_, ch) in enumerate(seq) if ch in (11, 12, 13)), -1)
         for k, (slot, ch) in enumerate(seq):
             s_end = ts + self.smp(ch) * clk
             c_end = s_end + ADC_CONV_CYCLES * clk
