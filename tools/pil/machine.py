@@ -751,10 +751,15 @@ class Machine:
             return
         sel = (a1.cr2 >> 12) & 7
         if (sel == 0 and source == "TRGO") or (sel == 1 and source == "CC4"):
-            self.trig_t = t
             a1.start_injected(t)
+            lead = a1.current_lead
             if ((a1.cr1 >> 16) & 0xF) == 5:
                 self.adc2.start_injected(t)
+                lead = self.adc2.current_lead
+            # the trigger as the currents see it: the trigger itself when
+            # they are converted first, later by the conversions before
+            # them (the port's four-conversion sequences: two)
+            self.trig_t = t + lead
 
     def on_jeoc(self, t, n):
         if n == 1:
