@@ -3,6 +3,13 @@
 #define PHASE_BIT(i) ((uint8_t)(1u << (i)))
 #define ALL_PHASES (FOC_PHASE_A | FOC_PHASE_B | FOC_PHASE_C)
 #define JDR_MID 16384 /* mid-scale of a left-aligned injected result */
+/* Functions on the interrupt's path to its deadline (the PWM plan) are
+ * inlined into it whether or not the compiler would. */
+#if defined(__GNUC__)
+#define LOGIC_INLINE __attribute__((always_inline)) static inline
+#else
+#define LOGIC_INLINE static inline
+#endif
 
 uint16_t stm32_duty_to_ccr(q15_t duty, uint16_t period)
 {
@@ -58,7 +65,7 @@ static int window_clean(int32_t s, int32_t p, int32_t cx, int32_t cm,
 }
 
 /* Start s of the sample window on the timeline; returns 1 if clean. */
-static uint8_t sample_window(int32_t p, int32_t cx, int32_t cm, int32_t ta,
+LOGIC_INLINE uint8_t sample_window(int32_t p, int32_t cx, int32_t cm, int32_t ta,
                              int32_t tb, int32_t *s)
 {
     const int32_t candidates[3] = {
@@ -99,36 +106,104 @@ static int32_t set_trigger(stm32_plan_t *pl, int32_t s, uint16_t period)
     return pl->ccr4_down ? 2 * p - ccr : ccr;
 }
 
-void stm32_plan_pwm(stm32_plan_t *p, const foc_duty_t *d, const stm32_timing_t *t,
-                    const stm32_adc_map_t *m, uint8_t aux_is_pot)
+/* What both PWM plans share: compare values, phases read, sample window
+ * (start *s, returns 1 if clean); the unread phase in *x, cm in *cm. */
+LOGIC_INLINE uint8_t plan_pwm_common(stm32_plan_t *p, const foc_duty_t *d,
+                               const stm32_timing_t *t, uint8_t aux_is_pot,
+                               int32_t *s, uint8_t *x, int32_t *cm)
 {
     p->ccr[0] = stm32_duty_to_ccr(d->a, t->period);
     p->ccr[1] = stm32_duty_to_ccr(d->b, t->period);
     p->ccr[2] = stm32_duty_to_ccr(d->c, t->period);
 
-    const uint8_t x = stm32_unread_phase(d->sector);
-    const uint8_t r1 = (x == 0u) ? 1u : 0u;
-    const uint8_t r2 = (x == 2u) ? 1u : 2u;
-    const uint16_t cm = (p->ccr[r1] > p->ccr[r2]) ? p->ccr[r1] : p->ccr[r2];
+    *x = stm32_unread_phase(d->sector);
+    const uint8_t r1 = (*x == 0u) ? 1u : 0u;
+    const uint8_t r2 = (*x == 2u) ? 1u : 2u;
+    *cm = (p->ccr[r1] > p->ccr[r2]) ? p->ccr[r1] : p->ccr[r2];
 
-    int32_t s;
-    const uint8_t clean = sample_window(t->period, p->ccr[x], cm, t->tw_after,
-                                        t->tw_before, &s);
-    s = set_trigger(p, s, t->period);
-    p->window_start = (uint16_t)s;
-    p->clean = (uint8_t)(clean && window_clean(s, t->period, p->ccr[x], cm,
-                                               t->tw_after, t->tw_before));
+    const uint8_t clean = sample_window(t->period, p->ccr[*x], *cm, t->tw_after,
+                                        t->tw_before, s);
     p->trigger_cc4 = 1u;
     p->all_phases = 0u;
     p->adc1_phase = r1;
     p->adc2_phase = r2;
     p->aux_is_pot = aux_is_pot ? 1u : 0u;
     p->phases = (uint8_t)(PHASE_BIT(r1) | PHASE_BIT(r2));
+    return clean;
+}
 
-    const uint8_t ch1[2] = { m->phase[r1], m->vbus };
-    const uint8_t ch2[2] = { m->phase[r2], p->aux_is_pot ? m->pot : m->temp };
+void stm32_plan_pwm(stm32_plan_t *p, const foc_duty_t *d, const stm32_timing_t *t,
+                    const stm32_adc_map_t *m, uint8_t aux_is_pot)
+{
+    int32_t s;
+    uint8_t x;
+    int32_t cm;
+    const uint8_t clean = plan_pwm_common(p, d, t, aux_is_pot, &s, &x, &cm);
+    s = set_trigger(p, s, t->period);
+    p->window_start = (uint16_t)s;
+    p->clean = (uint8_t)(clean && window_clean(s, t->period, p->ccr[x], cm,
+                                               t->tw_after, t->tw_before));
+
+    const uint8_t ch1[2] = { m->phase[p->adc1_phase], m->vbus };
+    const uint8_t ch2[2] = { m->phase[p->adc2_phase], p->aux_is_pot ? m->pot : m->temp };
     p->jsqr1 = stm32_jsqr(ch1, 2u);
     p->jsqr2 = stm32_jsqr(ch2, 2u);
+}
+
+/* JSQR of a four-conversion sequence a, b, c, d (JL = 3: JSQ1..JSQ4). */
+static uint32_t jsqr4(uint32_t a, uint32_t b, uint32_t c, uint32_t d)
+{
+    return (3u << 20) | a | (b << 5) | (c << 10) | (d << 15);
+}
+
+/* Trigger on the way up, lead counts before the window start s; not earlier
+ * than half a period less the lead, so that the end of the sequence still
+ * comes after the middle of the way up (the interrupt's check for a
+ * trigger that was not planned).  Returns the window start it gives. */
+static int32_t set_trigger_lead(stm32_plan_t *p, int32_t s, int32_t per, int32_t lead)
+{
+    int32_t lo = per / 2 - lead;
+    int32_t trig = s - lead;
+    if (lo < 1) {
+        lo = 1;
+    }
+    if (trig < lo) {
+        trig = lo;
+    }
+    if (trig > per - 1) {
+        trig = per - 1;
+    }
+    p->ccr4 = (uint16_t)trig;
+    p->ccr4_down = 0u;
+    return trig + lead;
+}
+
+void stm32_plan_pwm_four(stm32_plan_t *p, const foc_duty_t *d, const stm32_timing_t *t,
+                         const stm32_seq4_t *q, uint8_t aux_is_pot, uint16_t lead)
+{
+    int32_t s;
+    uint8_t x;
+    int32_t cm;
+    uint8_t clean = plan_pwm_common(p, d, t, aux_is_pot, &s, &x, &cm);
+    const int32_t s2 = set_trigger_lead(p, s, (int32_t)t->period, (int32_t)lead);
+    if (s2 != s) {
+        clean = (uint8_t)(clean && window_clean(s2, t->period, p->ccr[x], cm,
+                                                t->tw_after, t->tw_before));
+    }
+    p->window_start = (uint16_t)s2;
+    p->clean = clean;
+    p->jsqr1 = q->adc1[p->adc1_phase];
+    p->jsqr2 = q->adc2[p->aux_is_pot][p->adc2_phase];
+}
+
+void stm32_seq4_init(stm32_seq4_t *q, const stm32_adc_map_t *m)
+{
+    const uint32_t v = m->vbus;
+    for (unsigned i = 0; i < 3u; i++) {
+        q->adc1[i] = jsqr4(v, v, m->phase[i], v);
+        q->adc2[0][i] = jsqr4(m->temp, m->temp, m->phase[i], m->temp);
+        q->adc2[1][i] = jsqr4(m->pot, m->pot, m->phase[i], m->pot);
+    }
 }
 
 void stm32_plan_all_phases(stm32_plan_t *p, const stm32_timing_t *t,
@@ -151,6 +226,17 @@ void stm32_plan_all_phases(stm32_plan_t *p, const stm32_timing_t *t,
     const uint8_t ch2[3] = { m->phase[1], m->temp, m->pot };
     p->jsqr1 = stm32_jsqr(ch1, 3u);
     p->jsqr2 = stm32_jsqr(ch2, 3u);
+}
+
+void stm32_plan_all_phases_four(stm32_plan_t *p, const stm32_timing_t *t,
+                                const stm32_adc_map_t *m, uint8_t trigger_cc4,
+                                uint16_t lead)
+{
+    stm32_plan_all_phases(p, t, m, trigger_cc4);
+    p->window_start = (uint16_t)set_trigger_lead(p, (int32_t)t->period - t->tw_before / 2,
+                                                 (int32_t)t->period, (int32_t)lead);
+    p->jsqr1 = jsqr4(m->vbus, m->phase[2], m->phase[0], m->vbus);
+    p->jsqr2 = jsqr4(m->pot, m->pot, m->phase[1], m->temp);
 }
 
 q15_t stm32_current_from_jdr(uint32_t jdr, uint8_t inverted)

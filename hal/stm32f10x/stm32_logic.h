@@ -104,6 +104,37 @@ void stm32_plan_pwm(stm32_plan_t *p, const foc_duty_t *d, const stm32_timing_t *
 void stm32_plan_all_phases(stm32_plan_t *p, const stm32_timing_t *t,
                            const stm32_adc_map_t *m, uint8_t trigger_cc4);
 
+/* The same plans with four-conversion sequences (JL = 3), the port's
+ * layout: RM0008 can be read as putting a sequence's k-th result in JDRk
+ * or the result of slot JSQx in JDRx (tools/pil --jdr-order); with all
+ * four slots used the two readings agree, JDRk = conversion k = JSQk.
+ * The currents are converted third, so the end of the sequence (JEOC, the
+ * interrupt) comes one conversion after them as with the two-conversion
+ * sequences, and the trigger comes `lead` timer counts (two conversion
+ * times) before the window.  It is always on the way up (ccr4_down = 0),
+ * where OC4's rising edge and the CC4 compare event of centre-aligned
+ * mode 2 coincide (tools/pil --cc4-trigger); not earlier than half a
+ * period less the lead, not later than the top.  A window the trigger
+ * cannot reach is re-checked where the trigger puts it (clean cleared if
+ * it is not clean there).  Slots, ADC1 / ADC2:
+ *   switching bridge: [vbus, vbus, phase, vbus] / [aux, aux, phase, aux]
+ *   all phases:       [vbus, C, A, vbus]        / [pot, pot, B, temp]
+ * The first two set the lead; no channel is converted by both ADCs in the
+ * same slot (RM0008 11.9).  Read JDR3, JDR4, JDR2 of each ADC into
+ * jdr1[0..2] / jdr2[0..2] of stm32_samples_from_jdr(). */
+typedef struct {
+    uint32_t adc1[3];    /* ADC1 JSQR reading phase i */
+    uint32_t adc2[2][3]; /* ADC2 JSQR reading phase i, aux temp (0) / pot (1) */
+} stm32_seq4_t;
+
+/* The switching-bridge sequences for a board's wiring, computed once. */
+void stm32_seq4_init(stm32_seq4_t *q, const stm32_adc_map_t *m);
+void stm32_plan_pwm_four(stm32_plan_t *p, const foc_duty_t *d, const stm32_timing_t *t,
+                         const stm32_seq4_t *q, uint8_t aux_is_pot, uint16_t lead);
+void stm32_plan_all_phases_four(stm32_plan_t *p, const stm32_timing_t *t,
+                                const stm32_adc_map_t *m, uint8_t trigger_cc4,
+                                uint16_t lead);
+
 /* Injected data register (left aligned: 12-bit result x 8, 0..32760) to
  * a bipolar current, Q15 of the ADC's half range around mid-scale (16384),
  * sign-corrected so current into the motor is positive; saturated. */

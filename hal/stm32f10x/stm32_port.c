@@ -23,6 +23,11 @@
 #define TW_BEFORE                                                              \
     ((uint16_t)((BOARD_ADC_LATENCY_CYCLES + BOARD_ADC_SAMPLE_CYCLES) *           \
                     BOARD_SYSCLK_HZ / BOARD_ADC_CLOCK_HZ + 0.5))
+/* Two conversion times in timer counts: how far the trigger comes before the
+ * current sample (the two filler slots of stm32_plan_four_slots). */
+#define LEAD_COUNTS                                                            \
+    ((uint16_t)(2.0 * (BOARD_ADC_SAMPLE_CYCLES + 12.5) * BOARD_SYSCLK_HZ /      \
+                    BOARD_ADC_CLOCK_HZ + 0.5))
 #define SLOW_TICK_CYCLES (2ul * PWM_PERIOD * CONTROL_SLOW_DIVIDER)
 
 FOC_STATIC_ASSERT(PWM_PERIOD_D >= 200.0 && PWM_PERIOD_D <= 65535.0,
@@ -35,6 +40,8 @@ FOC_STATIC_ASSERT(PWM_DEADTIME_S * BOARD_SYSCLK_HZ <= 1008.0,
                   "PWM_DEADTIME_S longer than TIM1's dead-time generator (14 us)");
 FOC_STATIC_ASSERT(TW_AFTER + 2 * TW_BEFORE < PWM_PERIOD / 2,
                   "PWM_FREQUENCY_HZ too high for the dead time and shunt settling time");
+FOC_STATIC_ASSERT(LEAD_COUNTS + TW_BEFORE < PWM_PERIOD / 2,
+                  "PWM_FREQUENCY_HZ too high for the four-conversion ADC sequences");
 FOC_STATIC_ASSERT(SLOW_TICK_CYCLES <= 0x1000000ul,
                   "CONTROL_SLOW_DIVIDER too large for SysTick at this PWM frequency");
 
@@ -75,6 +82,7 @@ static const stm32_adc_map_t adc_map = {
 };
 
 static foc_ctrl_t *ctrl;
+static stm32_seq4_t seq4;        /* the PWM plans' ADC sequences */
 static stm32_plan_t plan_off;    /* outputs off: update-triggered */
 static stm32_plan_t plan_on_all; /* outputs on, 50 % or low sides on */
 static stm32_plan_t armed;       /* the plan of the next/ongoing conversion */
@@ -126,8 +134,10 @@ static uint8_t outputs_on(void)
 /* ------------------------------------------------------- port.h -- */
 void foc_port_read_samples(foc_samples_t *s)
 {
-    const uint32_t jdr1[3] = { ADC1->JDR1, ADC1->JDR2, ADC1->JDR3 };
-    const uint32_t jdr2[3] = { ADC2->JDR1, ADC2->JDR2, ADC2->JDR3 };
+    /* four-conversion sequences: JDRk holds conversion k under either
+     * reading of RM0008 (stm32_plan_four_slots) */
+    const uint32_t jdr1[3] = { ADC1->JDR3, ADC1->JDR4, ADC1->JDR2 };
+    const uint32_t jdr2[3] = { ADC2->JDR3, ADC2->JDR4, ADC2->JDR2 };
     stm32_samples_from_jdr(&armed, &adc_map, jdr1, jdr2, &aux, s);
     if (!armed.clean) {
         stats.unclean++;
@@ -222,7 +232,7 @@ static void arm_next_period(void)
     irq_restore(m);
     stm32_plan_t pwm;
     aux_pot ^= 1u;
-    stm32_plan_pwm(&pwm, &d, &timing, &adc_map, aux_pot);
+    stm32_plan_pwm_four(&pwm, &d, &timing, &seq4, aux_pot, LEAD_COUNTS);
 
     if (STM32_UPDATE_AT_TOP) {
         /* the centred window is the plan's first choice: any other one
@@ -313,7 +323,10 @@ static void delay_cycles(uint32_t n)
 
 static void setup_tim1(void)
 {
-    TIM1->CR1 = TIM_CR1_CMS_0 | TIM_CR1_ARPE; /* centre-aligned 1, CKD = 1 */
+    /* Centre-aligned mode 2 (compare flags counting up, RM0008 14.4.1
+     * CMS): the sampling trigger is always on the way up, where the CC4
+     * compare event and OC4's rising edge coincide; CKD = 1. */
+    TIM1->CR1 = TIM_CR1_CMS_1 | TIM_CR1_ARPE;
     TIM1->CR2 = TIM_CR2_MMS_1;                /* TRGO = update; idle low */
     TIM1->PSC = 0u;
     TIM1->ARR = PWM_PERIOD;
@@ -460,8 +473,9 @@ static void setup_debug_dac(void)
 uint8_t stm32_port_init(foc_ctrl_t *c)
 {
     ctrl = c;
-    stm32_plan_all_phases(&plan_off, &timing, &adc_map, 0u);
-    stm32_plan_all_phases(&plan_on_all, &timing, &adc_map, 1u);
+    stm32_seq4_init(&seq4, &adc_map);
+    stm32_plan_all_phases_four(&plan_off, &timing, &adc_map, 0u, LEAD_COUNTS);
+    stm32_plan_all_phases_four(&plan_on_all, &timing, &adc_map, 1u, LEAD_COUNTS);
     stats.min = UINT32_MAX;
 
     RCC->APB2ENR |= RCC_APB2ENR_AFIOEN | RCC_APB2ENR_IOPAEN | RCC_APB2ENR_IOPBEN |

@@ -211,6 +211,7 @@ typedef struct {
 #define TIM_CR1_CEN               ((uint16_t)0x0001)
 #define TIM_CR1_DIR               ((uint16_t)0x0010)
 #define TIM_CR1_CMS_0             ((uint16_t)0x0020)
+#define TIM_CR1_CMS_1             ((uint16_t)0x0040)
 #define TIM_CR1_ARPE              ((uint16_t)0x0080)
 #define TIM_CR2_MMS_1             ((uint16_t)0x0020)
 #define TIM_DIER_UIE              ((uint16_t)0x0001)

@@ -140,7 +140,7 @@ class Machine:
             if size == layout["size"]:
                 self.ctrl_addr = addr
         # per-conversion records
-        self.conv_snap = None      # plant state at the first sample of the sequence
+        self.conv_snap = None      # plant state at the sequence's first current sample
         self.trig_t = None
         self.jeoc_t = None
         self.rows_cb = None
@@ -688,7 +688,9 @@ class Machine:
         shunt amplifiers centred on Vref/2 falling for current into the
         motor, bus divider, NTC, potentiometer."""
         st = self.plant_state(t)
-        if adc_n == 1 and k == 0:
+        # the CSV's plant state: at ADC2's first phase-current sample (the
+        # instant the currents are read, whatever the sequence puts first)
+        if adc_n == 2 and k == self.adc2.first_current_k:
             self.conv_snap = (t, st)
         half = self.vref / 2.0
         if ch in (11, 12, 13):
@@ -749,10 +751,15 @@ class Machine:
             return
         sel = (a1.cr2 >> 12) & 7
         if (sel == 0 and source == "TRGO") or (sel == 1 and source == "CC4"):
-            self.trig_t = t
             a1.start_injected(t)
+            lead = a1.current_lead
             if ((a1.cr1 >> 16) & 0xF) == 5:
                 self.adc2.start_injected(t)
+                lead = self.adc2.current_lead
+            # the trigger as the currents see it: the trigger itself when
+            # they are converted first, later by the conversions before
+            # them (the port's four-conversion sequences: two)
+            self.trig_t = t + lead
 
     def on_jeoc(self, t, n):
         if n == 1:

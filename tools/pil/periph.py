@@ -377,6 +377,8 @@ class Adc:
         self.regular_starts = 0  # conversions started by rewriting ADON
         self.sequences = 0
         self.ignored_triggers = 0
+        self.first_current_k = -1  # index of the first phase-current conversion
+        self.current_lead = 0.0
 
     def smp(self, ch):
         if ch < 10:
@@ -411,7 +413,11 @@ class Adc:
         ts = t + m.adc_latency * clk
         seq = self.sequence()
         self.sequences += 1
+        self.first_current_k = next((k for k, (_, ch) in enumerate(seq) if ch in (11, 12, 13)), -1)
+        self.current_lead = 0.0  # ticks from the trigger's latency end to the current conversion
         for k, (slot, ch) in enumerate(seq):
+            if k == self.first_current_k:
+                self.current_lead = ts - (t + m.adc_latency * clk)
             s_end = ts + self.smp(ch) * clk
             c_end = s_end + ADC_CONV_CYCLES * clk
             target = (k + 1) if m.readings["jdr_order"] == "sequence" else slot
