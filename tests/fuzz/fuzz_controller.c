@@ -31,7 +31,13 @@
  *     OVERCURRENT active after it;
  *   - a bus or temperature reading beyond its trip threshold at a slow step
  *     means FAULT after it (with that fault active, unless another fault
- *     was already latched).
+ *     was already latched);
+ *   - the current limit, as far as a harness without a plant can judge it:
+ *     the current references (the slow step's and the fast step's slewed
+ *     ones) never leave the circle of CURRENT_LIMIT_A, whatever the
+ *     measurements and commands;
+ *   - the speed limit: the stored command never beyond
+ *     MOTOR_MAX_SPEED_RPM (the ramp may start from a rotor driven faster).
  */
 #include <stdint.h>
 #include <stdio.h>
@@ -164,6 +170,18 @@ static void check_invariants(const foc_ctrl_t *c)
     }
     if (c->state == FOC_STATE_FAULT && port.bridge != BRIDGE_OFF) {
         fail("bridge on in FAULT", period_no);
+    }
+    const int32_t limit = FOC_I_Q15(CURRENT_LIMIT_A);
+    const foc_dq_t *refs[2] = { &c->i_ref, &c->i_ref_slewed };
+    for (unsigned k = 0; k < 2u; k++) {
+        if ((int32_t)refs[k]->d * refs[k]->d + (int32_t)refs[k]->q * refs[k]->q > limit * limit) {
+            fail(k == 0u ? "current reference beyond CURRENT_LIMIT_A"
+                         : "slewed current reference beyond CURRENT_LIMIT_A",
+                 period_no);
+        }
+    }
+    if (c->req.speed > FOC_MAX_SPEED || c->req.speed < -FOC_MAX_SPEED) {
+        fail("speed command beyond MOTOR_MAX_SPEED_RPM", period_no);
     }
 }
 
