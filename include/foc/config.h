@@ -104,8 +104,9 @@
  * estimated speed the loop runs at) fakes half that EMF, and faster, the
  * estimate swings with every torque step and the speed loop chases it
  * (docs/safety.md, "The current references' slew").  The slew is that
- * rate, but a reversal (-limit to +limit) within 8 slow ticks at the
- * slowest (the speed loop's own lag) and within one at the fastest;
+ * rate, but a reversal (-limit to +limit) within 6 slow ticks at the
+ * slowest (slower, the speed loop loses phase: the Luenberger estimator
+ * stops running at 500 rpm with ADC noise) and within one at the fastest;
  * Q15 per PWM period, rounded down to 2^(bits-1) - 1 for one SSAT. */
 #define FOC_IREF_REVERSAL_PU (2.0 * CURRENT_LIMIT_A * (1.0 - CURRENT_REF_MARGIN) / FOC_I_BASE_A * 32768.0)
 #define FOC_IREF_STEP_EMF_PU                                                   \
@@ -113,7 +114,7 @@
      FOC_I_BASE_A * 32768.0)
 /* SSAT widths: the EMF rate rounded down, the bounds rounded up */
 #define FOC_IREF_BITS_EMF ((FOC_IREF_STEP_EMF_PU < 2.0) ? 2 : FOC_GAIN_SHIFT(FOC_IREF_STEP_EMF_PU))
-#define FOC_IREF_BITS_SLOWEST (1 + FOC_GAIN_SHIFT(FOC_IREF_REVERSAL_PU / (8.0 * CONTROL_SLOW_DIVIDER)))
+#define FOC_IREF_BITS_SLOWEST (1 + FOC_GAIN_SHIFT(FOC_IREF_REVERSAL_PU / (6.0 * CONTROL_SLOW_DIVIDER)))
 #define FOC_IREF_BITS_FASTEST (1 + FOC_GAIN_SHIFT(FOC_IREF_REVERSAL_PU / CONTROL_SLOW_DIVIDER))
 #define FOC_IREF_STEP_BITS                                                     \
     ((FOC_IREF_BITS_EMF < FOC_IREF_BITS_SLOWEST)   ? FOC_IREF_BITS_SLOWEST                         \
