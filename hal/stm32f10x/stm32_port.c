@@ -232,16 +232,15 @@ static void arm_next_period(void)
     irq_restore(m);
     stm32_plan_t pwm;
     aux_pot ^= 1u;
+#if STM32_UPDATE_AT_TOP
+    /* the window centred on the next top: the way up on the compare values
+     * active now (the armed plan's), the way down on d's; the phases valid
+     * there are read, each judged on its own leg */
+    stm32_plan_pwm_top(&pwm, armed.ccr, &d, &timing, &seq4, aux_pot,
+                       plan_on_all.window_start, plan_on_all.ccr4);
+#else
     stm32_plan_pwm_four(&pwm, &d, &timing, &seq4, aux_pot, LEAD_COUNTS);
-
-    if (STM32_UPDATE_AT_TOP) {
-        /* the centred window is the plan's first choice: any other one
-         * means the centre is not clean */
-        pwm.clean = (uint8_t)(pwm.clean && pwm.window_start == plan_on_all.window_start);
-        pwm.ccr4 = plan_on_all.ccr4;
-        pwm.ccr4_down = plan_on_all.ccr4_down;
-        pwm.window_start = plan_on_all.window_start;
-    }
+#endif
     m = irq_save();
     if (!outputs_on()) {
         apply_plan(&plan_off, 0u);
