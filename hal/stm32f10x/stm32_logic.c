@@ -196,6 +196,46 @@ void stm32_plan_pwm_four(stm32_plan_t *p, const foc_duty_t *d, const stm32_timin
     p->jsqr2 = q->adc2[p->aux_is_pot][p->adc2_phase];
 }
 
+void stm32_plan_pwm_top(stm32_plan_t *p, const uint16_t ccr_up[3], const foc_duty_t *d,
+                        const stm32_timing_t *t, const stm32_seq4_t *q, uint8_t aux_is_pot,
+                        uint16_t window_start, uint16_t ccr4)
+{
+    const int32_t s = (int32_t)window_start;
+    const int32_t end = s + (int32_t)t->tw_before;
+    const int32_t two_p = 2 * (int32_t)t->period;
+    uint8_t valid = 0u;
+    p->ccr[0] = stm32_duty_to_ccr(d->a, t->period);
+    p->ccr[1] = stm32_duty_to_ccr(d->b, t->period);
+    p->ccr[2] = stm32_duty_to_ccr(d->c, t->period);
+    for (uint8_t i = 0; i < 3u; i++) {
+        if ((int32_t)ccr_up[i] + (int32_t)t->tw_after <= s && end <= two_p - (int32_t)p->ccr[i]) {
+            valid = (uint8_t)(valid | PHASE_BIT(i));
+        }
+    }
+    const uint8_t x = stm32_unread_phase(d->sector);
+    uint8_t r1 = (x == 0u) ? 1u : 0u;
+    uint8_t r2 = (x == 2u) ? 1u : 2u;
+    if ((valid & PHASE_BIT(x)) != 0u) {
+        if ((valid & PHASE_BIT(r1)) == 0u) {
+            r1 = x;
+        } else if ((valid & PHASE_BIT(r2)) == 0u) {
+            r2 = x;
+        }
+    }
+    p->phases = (uint8_t)((PHASE_BIT(r1) | PHASE_BIT(r2)) & valid);
+    p->clean = (uint8_t)(p->phases == (PHASE_BIT(r1) | PHASE_BIT(r2)));
+    p->ccr4 = ccr4;
+    p->ccr4_down = 0u;
+    p->trigger_cc4 = 1u;
+    p->all_phases = 0u;
+    p->adc1_phase = r1;
+    p->adc2_phase = r2;
+    p->aux_is_pot = aux_is_pot ? 1u : 0u;
+    p->window_start = window_start;
+    p->jsqr1 = q->adc1[r1];
+    p->jsqr2 = q->adc2[p->aux_is_pot][r2];
+}
+
 void stm32_seq4_init(stm32_seq4_t *q, const stm32_adc_map_t *m)
 {
     const uint32_t v = m->vbus;

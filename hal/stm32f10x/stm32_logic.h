@@ -135,6 +135,27 @@ void stm32_plan_all_phases_four(stm32_plan_t *p, const stm32_timing_t *t,
                                 const stm32_adc_map_t *m, uint8_t trigger_cc4,
                                 uint16_t lead);
 
+/* The plan of the update-at-top build (stm32_port.c STM32_UPDATE_AT_TOP):
+ * TIM1's update at the top of the count, so the sample window, fixed and
+ * centred on the top (window_start, trigger ccr4 on the way up, `lead`
+ * before it: stm32_plan_all_phases_four's), straddles two duty sets: the
+ * way up runs on the compare values active now (ccr_up, the previous
+ * plan's), the way down on those of d, loaded at the top.  With three
+ * shunts a phase is valid at the window if its low side has conducted
+ * for tw_after (dead time + settling) when the window starts, under
+ * ccr_up, and still conducts when it ends, under d's compare values:
+ *   ccr_up[i] + tw_after <= s  and  s + tw_before <= 2 P - ccr[i].
+ * The sector's two phases (stm32_unread_phase) are read when both are
+ * valid; otherwise the unread phase replaces an invalid one if it is
+ * valid itself.  `phases` holds the read phases that are valid, `clean`
+ * is 1 when both are (the core reconstructs the third); with fewer the
+ * core keeps the previous period's current (foc_samples_t).  Each phase
+ * is judged on its own leg: another leg's edge near the window does not
+ * disqualify it (the two-window rules of stm32_plan_pwm do). */
+void stm32_plan_pwm_top(stm32_plan_t *p, const uint16_t ccr_up[3], const foc_duty_t *d,
+                        const stm32_timing_t *t, const stm32_seq4_t *q, uint8_t aux_is_pot,
+                        uint16_t window_start, uint16_t ccr4);
+
 /* Injected data register (left aligned: 12-bit result x 8, 0..32760) to
  * a bipolar current, Q15 of the ADC's half range around mid-scale (16384),
  * sign-corrected so current into the motor is positive; saturated. */

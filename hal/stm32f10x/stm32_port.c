@@ -45,20 +45,27 @@ FOC_STATIC_ASSERT(LEAD_COUNTS + TW_BEFORE < PWM_PERIOD / 2,
 FOC_STATIC_ASSERT(SLOW_TICK_CYCLES <= 0x1000000ul,
                   "CONTROL_SLOW_DIVIDER too large for SysTick at this PWM frequency");
 
-/* STM32_UPDATE_AT_TOP (experimental, off: build with
- * STM32_DEFS=-DSTM32_UPDATE_AT_TOP=1): TIM1's update at the top of the
- * count instead of the bottom.  The sample, centred on the top, then sits
- * at the boundary between two duty sets and the duties computed from it
- * are loaded at the next top: 1.5 periods from the sample to the middle
- * of their period, which the core assumes (1.0 otherwise, docs/porting.md),
- * and the interrupt has a whole period instead of half of one.  CCR4 is
- * preloaded too, so the sampling point is the fixed one centred on the top
- * (the plan's other windows, for high modulation, are not used: such
- * periods are flagged unclean), and CC4P never changes, so the trigger is
- * not held.  Measured processor-in-the-loop (docs/pil.md): 0 overruns and
- * the estimator's angle error of focsim. */
+/* STM32_UPDATE_AT_TOP (1, the default; 0 for the former update-at-bottom
+ * build: STM32_DEFS=-DSTM32_UPDATE_AT_TOP=0, which the Makefile builds with
+ * SAMPLE_DELAY_PERIODS=1.0): TIM1's update at the top of the count.  The
+ * sample, centred on the top, then sits at the boundary between two duty
+ * sets and the duties computed from it are loaded at the next top: 1.5
+ * periods from the sample to the middle of their period, which the core
+ * assumes (1.0 at the bottom, docs/porting.md), and the interrupt has a
+ * whole period instead of half of one (issue 11's 60 % margin met, 0
+ * overruns, docs/pil.md).  CCR4 is preloaded too, so the sampling point is
+ * the fixed one centred on the top (the bottom build's moved windows are
+ * not used), and CC4P never changes, so the trigger is not held.  Near full
+ * modulation each phase is judged on its own at that point
+ * (stm32_plan_pwm_top: its low side on for dead time + settling before the
+ * window and through it, under the compare values of the way up and of
+ * the way down); two valid phases are enough (the core reconstructs the
+ * third), the unread phase stands in for an invalid one, and with fewer
+ * than two the period is unclean and the core keeps its current.
+ * High-modulation scenario (tests/pil/highmod.scn): 631 unclean periods
+ * against the bottom build's 798, in the same stretches. */
 #ifndef STM32_UPDATE_AT_TOP
-#define STM32_UPDATE_AT_TOP 0
+#define STM32_UPDATE_AT_TOP 1
 #endif
 
 /* NVIC preemption priorities (ST library v2.0, seed 002). */
@@ -232,16 +239,15 @@ static void arm_next_period(void)
     irq_restore(m);
     stm32_plan_t pwm;
     aux_pot ^= 1u;
+#if STM32_UPDATE_AT_TOP
+    /* the window centred on the next top: the way up on the compare values
+     * active now (the armed plan's), the way down on d's; the phases valid
+     * there are read, each judged on its own leg */
+    stm32_plan_pwm_top(&pwm, armed.ccr, &d, &timing, &seq4, aux_pot,
+                       plan_on_all.window_start, plan_on_all.ccr4);
+#else
     stm32_plan_pwm_four(&pwm, &d, &timing, &seq4, aux_pot, LEAD_COUNTS);
-
-    if (STM32_UPDATE_AT_TOP) {
-        /* the centred window is the plan's first choice: any other one
-         * means the centre is not clean */
-        pwm.clean = (uint8_t)(pwm.clean && pwm.window_start == plan_on_all.window_start);
-        pwm.ccr4 = plan_on_all.ccr4;
-        pwm.ccr4_down = plan_on_all.ccr4_down;
-        pwm.window_start = plan_on_all.window_start;
-    }
+#endif
     m = irq_save();
     if (!outputs_on()) {
         apply_plan(&plan_off, 0u);

@@ -787,6 +787,18 @@ class Machine:
         pass
 
     # ------------------------------------------------------------ memory --
+    def read_fw_unclean(self):
+        """The port's own count of periods without two valid currents
+        (stm32_isr_stats_t.unclean, the fifth word of the port's `stats`),
+        -1 if the image has no such object: a diagnostic CSV column (where
+        the unclean periods fall), not an oracle."""
+        if not hasattr(self, "_unclean_addr"):
+            objs = self.img.objects_all.get("stats", [])
+            self._unclean_addr = objs[0][0] + 16 if len(objs) == 1 and objs[0][1] == 28 else None
+        if self._unclean_addr is None:
+            return -1
+        return struct.unpack("<I", bytes(self.uc.mem_read(self._unclean_addr, 4)))[0]
+
     def read_ctrl(self):
         """The controller's fields (CSV columns only)."""
         out = {}

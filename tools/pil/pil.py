@@ -37,7 +37,7 @@ STATES = ["IDLE", "CALIB", "ALIGN", "OPENLOOP", "RUN", "STOP", "BRAKE", "FAULT",
 CSV_HEADER = ("t_s,state,fault,speed_ref_rpm,speed_rpm,speed_est_rpm,theta_e_deg,"
               "theta_est_deg,id_a,iq_a,id_ref_a,iq_ref_a,vd_v,vq_v,vdc_v,torque_nm,"
               "ia_a,ib_a,ic_a")
-PIL_COLUMNS = "isr_cycles,isr_latency_cycles,deadline_cycles,overrun,bridge"
+PIL_COLUMNS = "isr_cycles,isr_latency_cycles,deadline_cycles,overrun,bridge,fw_unclean"
 
 
 # ------------------------------------------------------------- scenario --
@@ -196,8 +196,8 @@ class Run:
         if self.csv and (self.row_n - 1) % self.a.decimate == 0:
             self.csv.write("%.6f,%s,%s,%.2f,%.2f,%.2f,%.2f,%.2f,%.4f,%.4f,%.4f,%.4f,%.3f,%.3f,"
                            "%.3f,%.5f,%.4f,%.4f,%.4f" % row)
-            self.csv.write(",%.0f,%.0f,%.0f,%d,%d\n" % (cycles, latency, deadline, overrun,
-                                                         m.bridge_state[0]))
+            self.csv.write(",%.0f,%.0f,%.0f,%d,%d,%d\n" % (cycles, latency, deadline, overrun,
+                                                            m.bridge_state[0], m.read_fw_unclean()))
 
     # --- scenario
     def apply(self, t_s, cmd, args):
