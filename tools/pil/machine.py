@@ -23,6 +23,29 @@ RAM_ADDR, RAM_SIZE = 0x20000000, 0x5000
 EXC_RETURN_PAGE = 0xFFFFF000
 
 STATE_NAMES = bench.STATE_NAMES
+
+# Deliberate modelling errors, NOT RM0008 (`pil.py run --diag NAME,...`):
+# readings of the hardware the manual does not support, the mistakes a
+# model writer could make.  They exist only to look for the model behind
+# issue 16's swing (docs/pil.md, "The oscillation of issue 16: cause");
+# off by default, never used by the tests or by `make pil`.
+DIAG_ERRORS = {
+    "ccr-nopreload": "CCR1..4 take effect when written, OCxPE ignored (RM0008 §14.4.7: at the update event)",
+    "duty-nopreload": "CCR1..3 take effect when written, OCxPE ignored; CCR4 preloaded",
+    "uev-every": "update event at every overflow and underflow, RCR ignored (RM0008 §14.3.3)",
+    "uev-swap": "with RCR = 1, the update event at the other end of the count than the repetition counter's",
+    "jeoc-at-trigger": "JEOC (and the interrupt) when the sequence starts; JDRx at each conversion's end (RM0008 §11.3.9: JEOC after the last)",
+    "jdr-prev": "JDRx written with the previous sequence's results (at the next trigger); JEOC on time",
+    "sample-at-trigger": "every conversion of a sequence sees the plant at the trigger instant (RM0008 §11.6: at the end of its sampling time)",
+    "no-deadtime": "no dead time: the plant's bridge and the shunt window without DTG (RM0008 §14.3.13)",
+    "no-deadtime-bridge": "no dead time in the plant's bridge only (the outputs follow OCxREF); shunt window with it",
+    "no-deadtime-shunt": "no dead time in the shunt window only; the plant's bridge with it",
+    "deadtime-wrong-edge": "the shunt's conduction window shortened at the low switch's turn-off instead of delayed at its turn-on",
+    "adc-reentry": "the ADC interrupt taken again while active when JEOC rises (PM0056 §4.3.9: an active interrupt is not re-entered)",
+    "jexttrig-ignored": "the injected trigger starts conversions whatever JEXTTRIG (RM0008 §11.12.3)",
+    "pllmul-plus1": "PLLMUL decoded as field + 1 (x8, SYSCLK 64 MHz) where RM0008 §7.3.2 says field + 2 "
+                    "(x9, 72 MHz): CPU, TIM1, ADC, USART 8/9 as fast against the plant's time",
+}
 FAULT_NAMES = None  # filled from include/foc/faults.h by pil.py
 
 
@@ -52,8 +75,10 @@ class PilImage(bench.Image):
 
 class Machine:
     def __init__(self, elf, plant_lib, layout, readings=None, flash_ws="rm0008",
-                 cpu_scale=1.0, adc_latency=3.0, lsi_hz=40000.0, seed=1, shunt="lowside"):
+                 cpu_scale=1.0, adc_latency=3.0, lsi_hz=40000.0, seed=1, shunt="lowside",
+                 diag=frozenset()):
         self.img = PilImage(elf)
+        self.diag = frozenset(diag)
         self.readings = dict(rcr_start="count", cc4_trigger="oc4", jdr_order="sequence")
         self.readings.update(readings or {})
         self.flash_ws_model = flash_ws
@@ -512,7 +537,8 @@ class Machine:
             e = self.best_pending()
             if e is None:
                 return
-            if self.group(self.prio(e)) >= self.exec_prio():
+            if self.group(self.prio(e)) >= self.exec_prio() and not (
+                    self.adc_reenter and e == 16 + periph.IRQ_ADC1_2):
                 return
             if uc.reg_read(UA.UC_ARM_REG_PRIMASK) & 1:
                 self.masked_pending = True
@@ -536,6 +562,8 @@ class Machine:
     def _activate(self, e, entry_cycles):
         if e >= 16:
             self.nvic_pend &= ~(1 << (e - 16))
+            if e == 16 + periph.IRQ_ADC1_2:
+                self.adc_reenter = False
         else:
             self.pending_exc.discard(e)
         vt = self.vtor
@@ -655,7 +683,10 @@ class Machine:
     # -------------------------------------------------------------- plant --
     def plant_to(self, t):
         if t > self.plant_t:
-            self.lib.pil_advance(self.plant, (t - self.plant_t) / TICK_HZ)
+            # --diag pllmul-plus1 (NOT RM0008): every clock of the chip 8/9
+            # as fast, i.e. the plant sees 9/8 of the time of the ticks
+            k = 9.0 / 8.0 if "pllmul-plus1" in self.diag else 1.0
+            self.lib.pil_advance(self.plant, (t - self.plant_t) / TICK_HZ * k)
             self.plant_t = t
 
     def plant_state(self, t):
@@ -670,7 +701,8 @@ class Machine:
             self.bridge_state = (mode, d)
             self.lib.pil_set_active(self.plant, mode, d[0], d[1], d[2])
             if self.plant_deadtime_from_image:
-                self.lib.pil_cmd(self.plant, 16, self.tim1.deadtime_ticks() / TICK_HZ)
+                dt = 0 if ({"no-deadtime", "no-deadtime-bridge"} & self.diag) else self.tim1.deadtime_ticks()
+                self.lib.pil_cmd(self.plant, 16, dt / TICK_HZ)
 
     def bkin_active(self):
         return self.bkin_low and (self.tim1.bdtr >> 12) & 1
@@ -728,11 +760,17 @@ class Machine:
         md = ((tim.ccmr1 >> 4) & 7, (tim.ccmr1 >> 12) & 7, (tim.ccmr2 >> 4) & 7)[ph]
         c = min(tim.ccr_sh[ph], a)
         pos = tim.phase(t)  # timeline 0 .. 2 ARR
-        dt = tim.deadtime_ticks()
+        dt = 0 if ({"no-deadtime", "no-deadtime-shunt"} & self.diag) else tim.deadtime_ticks()
         if md == 4:
             return i
         if md != 6:
             return i if i > 0 else 0.0
+        if "deadtime-wrong-edge" in self.diag:  # NOT RM0008 (--diag)
+            if c <= pos < 2 * a - c - dt:
+                return i
+            if 2 * a - c - dt <= pos < 2 * a - c or c - dt <= pos < c:
+                return i if i > 0 else 0.0
+            return 0.0
         # PWM mode 1: high side on for pos < c or pos > 2a - c
         if c + dt <= pos < 2 * a - c:
             return i              # low switch on
@@ -747,7 +785,7 @@ class Machine:
         injected simultaneous mode (ADC1 DUALMOD = 0101 [RM §11.9.2]) ADC2
         converts its own injected sequence at the same time."""
         a1 = self.adc1
-        if not (a1.cr2 >> 15) & 1:
+        if not (a1.cr2 >> 15) & 1 and "jexttrig-ignored" not in self.diag:
             return
         sel = (a1.cr2 >> 12) & 7
         if (sel == 0 and source == "TRGO") or (sel == 1 and source == "CC4"):
@@ -761,9 +799,17 @@ class Machine:
             # them (the port's four-conversion sequences: two)
             self.trig_t = t + lead
 
+    adc_reenter = False
+
     def on_jeoc(self, t, n):
         if n == 1:
             self.jeoc_t = t
+            if "adc-reentry" in self.diag and (16 + periph.IRQ_ADC1_2) in self.active:
+                # NOT PM0056 (--diag adc-reentry): a JEOC rising while the
+                # handler runs enters it again, nested
+                self.nvic_pend |= 1 << periph.IRQ_ADC1_2
+                self.adc_reenter = True
+                self.irq_check = True
 
     def on_uev(self, t, at_bottom):
         if self.uev_cb:

@@ -118,7 +118,7 @@ class Tim1:
         ph = self.phase(t)
         base = t - ph
         a = self.arr_sh
-        wake = self.rep == 0  # an update comes with this over/underflow
+        wake = self.rep == 0 or bool(self.m.diag)  # an update comes with this over/underflow
         if ph < a:
             self.m.sched.at(base + a, lambda tt: g == self.gen and self.over_under(tt, True), wake)
         else:
@@ -181,11 +181,18 @@ class Tim1:
         """[RM §14.3.3 Repetition counter]: in centre-aligned mode the
         repetition down-counter counts overflows and underflows; the update
         event (UEV) comes when it is 0, and then it reloads from RCR."""
+        diag = self.m.diag
+        do = self.rep == 0
         if self.rep == 0:
             self.rep = self.rcr
-            self.uev(t, at_bottom=not overflow)
         else:
             self.rep -= 1
+        if "uev-every" in diag:
+            do = True  # NOT RM0008 (--diag): RCR ignored
+        elif "uev-swap" in diag and self.rcr == 1:
+            do = not do  # NOT RM0008 (--diag): the other end of the count
+        if do:
+            self.uev(t, at_bottom=not overflow)
         self.refresh_oc4(t)
         self.schedule_edges(t + 1)
 
@@ -331,9 +338,16 @@ class Tim1:
             self.ccr[i] = v
             pe = [(self.ccmr1 >> 3) & 1, (self.ccmr1 >> 11) & 1,
                   (self.ccmr2 >> 3) & 1, (self.ccmr2 >> 11) & 1][i]
+            if "ccr-nopreload" in m.diag or ("duty-nopreload" in m.diag and i < 3):
+                pe = 0  # NOT RM0008 (--diag): the preload ignored
             if not pe:
                 self.ccr_sh[i] = v
                 m.update_bridge(t)
+                if i == 3 and self.t0 is not None:
+                    # the compare instants move with the new value
+                    self.gen += 1
+                    self.schedule_edges(t)
+                    self.refresh_oc4(t)
         elif off == 0x44:
             # LOCK level 1 freezes DTG, BKE, BKP, AOE, OISx [RM §14.4.18]
             if (self.bdtr >> 8) & 3:
@@ -409,6 +423,10 @@ class Adc:
         if t < self.busy_until:
             self.ignored_triggers += 1
             return
+        if "jdr-prev" in m.diag:  # NOT RM0008 (--diag): last sequence's results now
+            for target, val in getattr(self, "deferred", {}).items():
+                self.jdr[target - 1] = val
+            self.deferred = {}
         clk = m.adc_clock_ticks()
         ts = t + m.adc_latency * clk
         seq = self.sequence()
@@ -421,9 +439,13 @@ class Adc:
             s_end = ts + self.smp(ch) * clk
             c_end = s_end + ADC_CONV_CYCLES * clk
             target = (k + 1) if m.readings["jdr_order"] == "sequence" else slot
-            m.sched.at(s_end, self._sampler(ch, target, k), False)
+            at = t if "sample-at-trigger" in m.diag else s_end  # NOT RM0008 (--diag)
+            m.sched.at(at, self._sampler(ch, target, k), False)
             ts = c_end
         self.busy_until = ts
+        if "jeoc-at-trigger" in m.diag:  # NOT RM0008 (--diag): JEOC at the start
+            t_start = t + m.adc_latency * clk
+            m.sched.at(t_start, self._jeoc, True)
         m.sched.at(ts, self._eos, True)
         self.sr |= 1 << 3  # JSTRT
 
@@ -438,9 +460,16 @@ class Adc:
         return f
 
     def _eos(self, tt):
-        for target, val in getattr(self, "pending", {}).items():
-            self.jdr[target - 1] = val
+        if "jdr-prev" in self.m.diag:
+            self.deferred = dict(getattr(self, "pending", {}))
+        else:
+            for target, val in getattr(self, "pending", {}).items():
+                self.jdr[target - 1] = val
         self.pending = {}
+        if "jeoc-at-trigger" not in self.m.diag:
+            self._jeoc(tt)
+
+    def _jeoc(self, tt):
         self.sr |= 1 << 2  # JEOC [RM §11.12.1]
         self.m.on_jeoc(tt, self.n)
         self.m.irq_lines(tt)

@@ -102,7 +102,8 @@ class Run:
         layout = load_layout(a.layout)
         readings = dict(rcr_start=a.rcr_start, cc4_trigger=a.cc4_trigger, jdr_order=a.jdr_order)
         m = self.m = machine.Machine(a.elf, a.plant_lib, layout, readings, a.flash_ws,
-                                     a.cpu_scale, a.adc_latency, shunt=a.shunt)
+                                     a.cpu_scale, a.adc_latency, shunt=a.shunt,
+                                     diag=parse_diag(a.diag))
         m.handler_done = self.handler_done
         m.on_entry = self.on_entry
         m.tx_cb = self.on_tx
@@ -390,6 +391,7 @@ def report(r, events, end, a):
     out.append(("adc_regular_starts", m.adc1.regular_starts + m.adc2.regular_starts))
     out.append(("adc_ignored_triggers", m.adc1.ignored_triggers))
     out.append(("unknown_registers", len(m.unknown_access)))
+    out.append(("diag_not_rm0008", ",".join(sorted(m.diag)) or "none"))
     fp = figures(r.rows, events, end)
     for k, v in fp.items():
         out.append(("pil_" + k, v))
@@ -414,6 +416,19 @@ def report(r, events, end, a):
     return dict(out)
 
 
+def parse_diag(text):
+    """--diag NAME[,NAME]: modelling errors on purpose (machine.DIAG_ERRORS),
+    for the issue-16 study only (docs/pil.md)."""
+    names = [n for n in (text or "").split(",") if n]
+    for n in names:
+        if n not in machine.DIAG_ERRORS:
+            raise SystemExit("pil: --diag %s: not one of %s" % (n, ", ".join(sorted(machine.DIAG_ERRORS))))
+    if names:
+        sys.stderr.write("pil: --diag %s: NOT RM0008 -- a deliberate modelling error, "
+                         "diagnostic only\n" % ",".join(names))
+    return frozenset(names)
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("cmd", choices=["run"])
@@ -430,6 +445,9 @@ def main(argv=None):
     p.add_argument("--jdr-order", choices=["sequence", "slot"], default="sequence")
     p.add_argument("--adc-latency", type=float, default=3.0)
     p.add_argument("--shunt", choices=["lowside", "ideal"], default="lowside")
+    p.add_argument("--diag", default="",
+                   help="NOT RM0008: deliberate modelling errors, comma-separated (issue 16 study; "
+                        "never used by tests or make pil): " + ", ".join(sorted(machine.DIAG_ERRORS)))
     p.add_argument("--decimate", type=int, default=1)
     p.add_argument("--monitor-log")
     p.add_argument("--until", type=float, help="stop at this time (s) instead of the scenario end")
