@@ -40,6 +40,8 @@ def run(elf, layout, diag, extra, csvp):
     state = kv.get("pil_final_state", "?")
     fault = kv.get("pil_first_fault", "?")
     st = state if fault == "NONE" else "%s/%s" % (state, fault)
+    if kv.get("pil_halted", "no") != "no":
+        st += " (%s)" % kv["pil_halted"]
     return "%s %s, ovr %s" % (st, sp, kv.get("image_overruns", "?"))
 
 
