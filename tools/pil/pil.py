@@ -103,7 +103,7 @@ class Run:
         readings = dict(rcr_start=a.rcr_start, cc4_trigger=a.cc4_trigger, jdr_order=a.jdr_order)
         m = self.m = machine.Machine(a.elf, a.plant_lib, layout, readings, a.flash_ws,
                                      a.cpu_scale, a.adc_latency, shunt=a.shunt,
-                                     diag=parse_diag(a.diag))
+                                     diag=parse_diag(getattr(a, "diag", "")))
         m.handler_done = self.handler_done
         m.on_entry = self.on_entry
         m.tx_cb = self.on_tx
