@@ -242,6 +242,15 @@ static void current_loop(foc_ctrl_t *c, uint8_t forced)
 void foc_fast_step(foc_ctrl_t *c)
 {
     foc_port_read_samples(&c->samples);
+    if (foc_port_overcurrent_latched() != 0u) {
+        /* First, before any posted restart could enable the bridge again.
+         * Once: the trip time starts the minimum time before an ack. */
+        if ((c->faults.active & (uint16_t)FOC_FAULT_OVERCURRENT) == 0u) {
+            trip(c, (uint16_t)FOC_FAULT_OVERCURRENT);
+        }
+        foc_scope_tick(c->scope);
+        return;
+    }
     if (c->post != (uint8_t)FOC_POST_NONE) {
         const uint8_t restart = (uint8_t)(c->post == (uint8_t)FOC_POST_RESTART);
         take_post(c);
@@ -251,14 +260,6 @@ void foc_fast_step(foc_ctrl_t *c)
             foc_scope_tick(c->scope);
             return;
         }
-    }
-    if (foc_port_overcurrent_latched() != 0u) {
-        /* Once: the trip time starts the minimum time before an ack. */
-        if ((c->faults.active & (uint16_t)FOC_FAULT_OVERCURRENT) == 0u) {
-            trip(c, (uint16_t)FOC_FAULT_OVERCURRENT);
-        }
-        foc_scope_tick(c->scope);
-        return;
     }
     switch (c->state) {
     case FOC_STATE_CALIB:
