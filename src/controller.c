@@ -209,8 +209,6 @@ static void current_loop(foc_ctrl_t *c, uint8_t forced)
 
     /* The angle of this sample: forced, or the estimate just made. */
     const uint16_t theta = (forced != 0u) ? foc_startup_angle(&c->startup) : c->est.theta;
-    const q15_t speed = (forced != 0u) ? c->startup.speed : c->est.speed;
-
     const foc_sincos_t sc = foc_sincos_q15(theta);
     c->i_dq = foc_park_q15(c->i_ab, sc);
     /* d first, with the whole voltage: AN1292's d-axis priority */
@@ -218,7 +216,7 @@ static void current_loop(foc_ctrl_t *c, uint8_t forced)
     c->v_dq.d = foc_cc_d_axis(&c->current_ctrl, c->i_ref_slewed.d, c->i_dq.d, v_max);
     if (forced != 0u) {
         /* the q swing current may use what the d current leaves */
-        c->v_dq.q = foc_cc_q_forced(&c->current_ctrl, forced_vq(speed, c->i_ref_slewed.d), c->i_dq.q,
+        c->v_dq.q = foc_cc_q_forced(&c->current_ctrl, forced_vq(c->startup.speed, c->i_ref_slewed.d), c->i_dq.q,
                                     c->forced_iq_max, c->v_dq.d, v_max);
     } else {
         c->v_dq.q = foc_cc_q_axis(&c->current_ctrl, c->i_ref_slewed.q, c->i_dq.q, c->v_dq.d, v_max);

@@ -101,6 +101,22 @@ static void check_plan(const stm32_plan_t *p, uint8_t aux_pot, const char *what)
     }
 }
 
+/* The duties of centred SVM for phase values a, b, c (Q15, 0..32767): the
+ * zero sequence moves the middle of the span to 1/2; the sector by the
+ * largest duty. */
+static foc_duty_t centred_duties(int a, int b, int c)
+{
+    int hi = a > b ? a : b;
+    hi = hi > c ? hi : c;
+    int lo = a < b ? a : b;
+    lo = lo < c ? lo : c;
+    const int off = 16384 - (hi + lo) / 2;
+    const int da = a + off, db = b + off, dc = c + off;
+    const uint8_t sec = (da >= db && da >= dc) ? 1 : (db >= dc ? 3 : 5);
+    const foc_duty_t d = { (q15_t)da, (q15_t)db, (q15_t)dc, sec };
+    return d;
+}
+
 static void case_pwm_plans_both_readings(void)
 {
     stm32_seq4_t q;
@@ -132,14 +148,7 @@ static void case_pwm_window_over_the_voltage_plane(void)
     for (int a = 0; a <= 32767; a += 1024) {
         for (int b = 0; b <= 32767; b += 1024) {
             for (int c = 0; c <= 32767; c += 2048) {
-                int hi = a > b ? a : b;
-                hi = hi > c ? hi : c;
-                int lo = a < b ? a : b;
-                lo = lo < c ? lo : c;
-                const int off = 16384 - (hi + lo) / 2;
-                const int da = a + off, db = b + off, dc = c + off;
-                uint8_t sec = (da >= db && da >= dc) ? 1 : (db >= dc ? 3 : 5);
-                const foc_duty_t d = { (q15_t)da, (q15_t)db, (q15_t)dc, sec };
+                const foc_duty_t d = centred_duties(a, b, c);
                 stm32_plan_t p, ref;
                 stm32_plan_pwm_four(&p, &d, &kit, &q, 0, LEAD);
                 stm32_plan_pwm(&ref, &d, &kit, &wiring, 0);
@@ -200,14 +209,8 @@ static void case_top_plan_over_the_voltage_plane(void)
     for (int a = 0; a <= 32767; a += 2048) {
         for (int b = 0; b <= 32767; b += 2048) {
             for (int c = 0; c <= 32767; c += 4096) {
-                int hi = a > b ? a : b;
-                hi = hi > c ? hi : c;
-                int lo = a < b ? a : b;
-                lo = lo < c ? lo : c;
-                const int off = 16384 - (hi + lo) / 2;
-                const int da = a + off, db = b + off, dc = c + off;
-                const uint8_t sec = (da >= db && da >= dc) ? 1 : (db >= dc ? 3 : 5);
-                const foc_duty_t d = { (q15_t)da, (q15_t)db, (q15_t)dc, sec };
+                const foc_duty_t d = centred_duties(a, b, c);
+                const int da = d.a, db = d.b, dc = d.c;
                 /* the way up: the same set, or one moved by up to 1/8 */
                 for (int shift = -4096; shift <= 4096; shift += 4096) {
                     const uint16_t up[3] = {
