@@ -315,11 +315,13 @@ static void begin_start(foc_ctrl_t *c)
 }
 
 /* CATCH: zero current on the estimator's angle, so the bridge applies
- * the back-EMF of a rotor that turns and the estimator locks onto it.  At
- * the end, a reliable estimate above the start-up minimum is a rotor
- * turning on its own: RUN at its speed, in its direction (the speed loop
- * then follows the command, through a reversal if need be).  Otherwise
- * the normal start: alignment. */
+ * the back-EMF of a rotor that turns and the estimator locks onto it.
+ * From FOC_CATCH_TICKS on, a reliable estimate above the start-up minimum
+ * is a rotor turning on its own: RUN at its speed, in its direction (the
+ * speed loop then follows the command, through a reversal if need be).
+ * An estimate that says "turning" but is not steady yet is given until
+ * FOC_CATCH_MAX_TICKS: aligning into a turning rotor is what CATCH is
+ * there to avoid.  Otherwise the normal start: alignment. */
 static void catch_tick(foc_ctrl_t *c)
 {
     foc_speed_stats_push(&c->speed_stats, c->est.est_speed);
@@ -327,12 +329,16 @@ static void catch_tick(foc_ctrl_t *c)
         return;
     }
     const q15_t mean = foc_speed_stats_mean(&c->speed_stats);
-    if (foc_speed_stats_reliable(&c->speed_stats, FOC_STARTUP_VARIANCE_THRESHOLD) &&
-        foc_abs_q15(mean) >= FOC_STARTUP_MIN_SPEED &&
+    const uint8_t turning = (uint8_t)(foc_abs_q15(mean) >= FOC_STARTUP_MIN_SPEED);
+    if (turning != 0u &&
+        foc_speed_stats_reliable(&c->speed_stats, FOC_STARTUP_VARIANCE_THRESHOLD) &&
         foc_est_emf_consistent(&c->est, FOC_STALL_EMF_RATIO)) {
         c->direction = (mean < 0) ? (int8_t)-1 : (int8_t)1;
         foc_sc_preset(&c->speed_ctrl, c->est.est_speed, 0);
         enter(c, FOC_STATE_RUN);
+        return;
+    }
+    if (turning != 0u && c->state_ticks < FOC_CATCH_MAX_TICKS) {
         return;
     }
     c->post_on_sensor = 0;

@@ -638,9 +638,12 @@ FOC_STATIC_ASSERT(SAMPLE_DELAY_PERIODS >= 1.0 && SAMPLE_DELAY_PERIODS <= 1.5,
 #ifndef CATCH_TIME_S
 #define CATCH_TIME_S 0.04 /* start: time the estimator looks for a turning rotor */
 #endif
-/* CATCH lasts at least the speed statistic's 64 slow ticks. */
+/* CATCH lasts at least the speed statistic's 64 slow ticks; while the
+ * estimate says the rotor turns but is not yet steady (its first samples
+ * hold the estimator's own convergence), it waits up to twice as long. */
 #define FOC_CATCH_TICKS                                                        \
     (FOC_TICKS(CATCH_TIME_S) > 64u ? FOC_TICKS(CATCH_TIME_S) : (uint16_t)64u)
+#define FOC_CATCH_MAX_TICKS ((uint16_t)(2u * FOC_CATCH_TICKS))
 /* The speed command is clamped to +-MOTOR_MAX_SPEED_RPM. */
 #define FOC_MAX_SPEED FOC_SPEED_Q15(MOTOR_MAX_SPEED_RPM)
 #define FOC_OVERSPEED FOC_SPEED_Q15(MOTOR_MAX_SPEED_RPM * (1.0 + OVERSPEED_MARGIN))
