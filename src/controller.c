@@ -35,9 +35,13 @@ static void outputs_off(foc_ctrl_t *c)
     c->i_ref = zero_dq;
 }
 
-/* Posts work for the fast step's next period (controller.h). */
+/* Posts work for the fast step's next period (controller.h); a restart
+ * also restarts the estimator's slow share, which the slow step owns. */
 static void post(foc_ctrl_t *c, foc_post_t what)
 {
+    if (what == FOC_POST_RESTART) {
+        foc_est_track_reset(&c->est);
+    }
     c->post = (uint8_t)what;
 }
 
@@ -150,6 +154,7 @@ void foc_init(foc_ctrl_t *c)
     outputs_off(c);
     const foc_est_input_t rest = { zero_ab, zero_ab, 0, 0 };
     foc_est_reset(&c->est, &rest, 1);
+    foc_est_track_reset(&c->est);
     enter(c, FOC_STATE_IDLE);
 }
 
@@ -585,6 +590,11 @@ static void fault_tick(foc_ctrl_t *c)
 
 static void state_machine(foc_ctrl_t *c)
 {
+    if (c->state == FOC_STATE_CATCH || c->state == FOC_STATE_ALIGN ||
+        c->state == FOC_STATE_OPENLOOP || c->state == FOC_STATE_RUN ||
+        c->state == FOC_STATE_STOP) {
+        foc_est_track_flux(&c->est);
+    }
     switch (c->state) {
     case FOC_STATE_IDLE:
         if (c->req.start != 0u) {

@@ -38,6 +38,20 @@ void foc_est_reset(foc_estimator_t *est, const foc_est_input_t *in, uint8_t use_
     foc_est_publish(est);
 }
 
+void foc_est_track_flux(foc_estimator_t *est)
+{
+    if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == FOC_EST_PLL) {
+        foc_pll_track_flux(&est->u.pll);
+    }
+}
+
+void foc_est_track_reset(foc_estimator_t *est)
+{
+    if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == FOC_EST_PLL) {
+        foc_pll_track_reset(&est->u.pll);
+    }
+}
+
 void foc_est_set_fw(foc_estimator_t *est, q15_t inv_kfi, q15_t ls_scale)
 {
     if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == FOC_EST_PLL) {

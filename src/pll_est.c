@@ -116,10 +116,37 @@ void foc_pll_step(foc_pll_t *p, foc_ab_t v_last, foc_ab_t i_now)
     const foc_dq_t e_dq = foc_park_q15(e, foc_sincos_q15(theta_e));
     const q15_t edf = foc_lpf_step(&p->ed, e_dq.d);
     const q15_t eqf = foc_lpf_step(&p->eq, e_dq.q);
-    const int32_t num = (eqf >= 0) ? (int32_t)eqf - edf : (int32_t)eqf + edf;
+    /* eq. 2 with -sgn(w) Edf (the estimate speeds up in the direction in
+     * which it lags) and the slow step's flux tracking */
+    const int32_t lead = (foc_lpf_out(&p->speed) >= 0) ? -(int32_t)edf : (int32_t)edf;
+    const int32_t num = (int32_t)eqf + lead + p->flux_corr;
     p->omega = foc_mul_q15_shift(foc_sat_q15(num), p->inv_kfi, FOC_PLL_INVKFI_SHIFT);
 
     /* Angle for the next sample; the conversion to uint32_t wraps. */
     p->theta32 += (uint32_t)((int32_t)p->omega * FOC_THETA32_PER_SPEED);
     (void)foc_lpf_step(&p->speed, p->omega);
+}
+
+void foc_pll_track_reset(foc_pll_t *p)
+{
+    p->flux_track = 0;
+    p->flux_corr = 0;
+}
+
+void foc_pll_track_flux(foc_pll_t *p)
+{
+    /* 16-bit reads of what the step writes; |lead| x gain < 2^29, the sum
+     * < 2^30 */
+    const q15_t edf = foc_lpf_out(&p->ed);
+    const q15_t eqf = foc_lpf_out(&p->eq);
+    const int32_t lead = (foc_lpf_out(&p->speed) >= 0) ? -(int32_t)edf : (int32_t)edf;
+    const int32_t track_max = (int32_t)foc_abs_q15(eqf) << 14;
+    int32_t track = p->flux_track + lead * FOC_PLL_TRACK_GAIN_Q14;
+    if (track > track_max) {
+        track = track_max;
+    } else if (track < -track_max) {
+        track = -track_max;
+    }
+    p->flux_track = track;
+    p->flux_corr = (q15_t)(track >> 14);
 }

@@ -185,6 +185,14 @@
 #define FOC_PLL_EMF_FILTER_K Q15(FOC_TS_S / (PLL_EMF_FILTER_TIME_S + FOC_TS_S))
 #define FOC_PLL_SPEED_FILTER_K Q15(FOC_TS_S / (PLL_SPEED_FILTER_TIME_S + FOC_TS_S))
 #define FOC_PLL_LOW_SPEED FOC_SPEED_Q15(PLL_LOW_SPEED_RPM)
+/* Flux tracking: the integrator on -sgn(w) Ed that takes the magnet flux's
+ * deviation from MOTOR_KE off the angle (pll_est.h).  Its rate, per second,
+ * is a quarter of the electrical speed at STARTUP_MIN_SPEED_RPM, so the
+ * loop it closes with eq. 2 stays damped (zeta >= 0.7 down to that speed
+ * with a flux 0.5x nominal); per slow tick, Q14. */
+#define FOC_PLL_TRACK_GAIN_Q14                                                 \
+    ((int32_t)(16384.0 * STARTUP_MIN_SPEED_RPM * MOTOR_POLE_PAIRS * 2.0 * FOC_PI_D / 60.0 / \
+               4.0 * FOC_SLOW_TS_S + 0.5))
 #define FOC_SENSORED_HANDOVER_SPEED FOC_SPEED_Q15(SENSORED_HANDOVER_RPM)
 
 /* --------------------------------------------- Luenberger observer -- */
@@ -569,6 +577,9 @@ FOC_STATIC_ASSERT(SPEED_FILTER_TIME_S >= 0.0, "SPEED_FILTER_TIME_S must be >= 0"
 FOC_STATIC_ASSERT(FOC_RS_PU < 32768.0, "MOTOR_RS_OHM too high for the per-unit format");
 FOC_STATIC_ASSERT(2.0 * FOC_LS_DT_PU < 32768.0,
                   "MOTOR_LQ_H too high for the per-unit format at PWM_FREQUENCY_HZ");
+FOC_STATIC_ASSERT(FOC_PLL_TRACK_GAIN_Q14 >= 4 && FOC_PLL_TRACK_GAIN_Q14 < 16384,
+                  "PLL flux tracking: STARTUP_MIN_SPEED_RPM x poles too low or too high "
+                  "for the PWM frequency");
 FOC_STATIC_ASSERT(FOC_KFI_PU > 1.0 / 8192.0 && 4.0 * FOC_PLL_INV_KFI_PU < 32768.0,
                   "MOTOR_KE_VPK_PER_KRPM too low for SPEED_BASE_RPM and the bus voltage");
 FOC_STATIC_ASSERT(FOC_KFI_PU < 32768.0, "MOTOR_KE_VPK_PER_KRPM too high");

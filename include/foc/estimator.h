@@ -134,6 +134,12 @@ static inline void foc_est_step(foc_estimator_t *est, const foc_est_input_t *in)
     foc_est_publish(est);
 }
 
+/* Slow step: the estimator's slow share (the PLL's flux tracking), in
+ * every state whose fast step runs it; its reset when a restart is posted.
+ * Estimators without one ignore both. */
+void foc_est_track_flux(foc_estimator_t *est);
+void foc_est_track_reset(foc_estimator_t *est);
+
 /* Field weakening's run-time machine constants: 1/KFi as a mantissa of
  * FOC_PLL_INVKFI_SHIFT and Ls/(2 Ls0) in Q15 (0.5 nominal); estimators
  * that model neither ignore them. */

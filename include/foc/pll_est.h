@@ -21,6 +21,19 @@
  * Eq = |E| cos d, so w = w_true cos d + |w_true| sin d: the estimate speeds
  * up when it lags, in both directions of rotation.
  *
+ * Eq. 2 alone holds the angle only where the flux equals KFi: with a
+ * magnet k x nominal it settles where cos d + sin d = 1/k (26 deg off at
+ * k = 0.75, no lock at all below k = 0.71), and with sgn(Eqf) as in
+ * AN1292 it has a second stable point near 100 deg above k = 1
+ * (test_estimators case_*_flux_mismatch).  So the sign is the filtered
+ * speed output's (the unfiltered w depends on this very term and would
+ * chatter), and the numerator gets a flux-tracking term: an integral of
+ * -sgn(w) Edf that drives Edf to zero, leaving d = 0 for any k.  It is
+ * bounded by |Eqf| (the correction for k down to 0.5), which also empties
+ * it as the speed passes through zero.  Slow (a few Hz), it runs in the
+ * slow step (foc_pll_track_flux, FOC_PLL_TRACK_GAIN_Q14 per slow tick),
+ * which owns flux_track and flux_corr; the step only adds flux_corr.
+ *
  * Units: voltages Q15 of the voltage base, EMF Q15 of twice the voltage
  * base (it exceeds the voltage base above base speed), currents Q15 of the
  * current base, speed Q15 of SPEED_BASE_RPM (electrical = mechanical x p),
@@ -54,6 +67,8 @@ typedef struct {
     uint8_t low_speed;     /* 1: 8-period average in use */
     q15_t inv_kfi;         /* 1/KFi mantissa (shift FOC_PLL_INVKFI_SHIFT) */
     q15_t ls_dt;           /* Ls/Ts mantissa (shift FOC_PLL_LSDT_SHIFT) */
+    int32_t flux_track;    /* [slow] flux tracking, half-scale EMF Q15 << 14, |.| <= |Eqf| << 14 */
+    q15_t flux_corr;       /* [slow] flux_track >> 14, added to eq. 2's numerator */
     uint16_t theta;        /* output angle */
 } foc_pll_t;
 
@@ -68,6 +83,10 @@ void foc_pll_reset(foc_pll_t *p, uint16_t theta, q15_t speed, foc_ab_t i_now);
  * ended at this sample. */
 void foc_pll_step(foc_pll_t *p, foc_ab_t v_last, foc_ab_t i_now);
 
+/* Slow step: one step of the flux tracking, in every state whose fast
+ * step runs the estimator; its reset at each restart. */
+void foc_pll_track_flux(foc_pll_t *p);
+void foc_pll_track_reset(foc_pll_t *p);
 /* Field weakening: 1/KFi as a Q15 mantissa of FOC_PLL_INVKFI_SHIFT
  * (FOC_PLL_INVKFI is nominal) and Ls/(2 Ls0) in Q15 (0.5 nominal, up to
  * 1.0 = twice nominal). */
