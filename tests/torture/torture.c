@@ -202,8 +202,10 @@ static void generate(uint32_t seed, spec_t *sp)
     for (int k = 0; k < n; k++) {
         const int a = irand(100);
         if (!running || a < 12) {
-            /* start, sometimes into a turning rotor */
-            if (irand(5) == 0 && !locked) {
+            /* start, sometimes into a turning rotor: one the bridge does
+             * not drive (a spin of a driven rotor would reverse its
+             * back-EMF in no time, which no shaft does) */
+            if (irand(5) == 0 && !locked && !running) {
                 spec_add(sp, "%.4f spin %.0f\n", t, (irand(2) ? 1 : -1) * urand(0.05, 1.0) * wmax);
                 spun = 1;
                 t += urand(0.05, 0.3);
