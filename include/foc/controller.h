@@ -157,6 +157,8 @@ typedef struct {
                                        /* 16-bit, read by the fast step */
     foc_estimator_t est;               /* [fast]; [slow] sets the field- */
                                        /* weakening constants (16-bit) */
+                                       /* and owns the PLL's flux tracking */
+                                       /* (flux_corr, 16-bit, read fast) */
     foc_startup_t startup;             /* [slow]; [fast] advances theta32 */
                                        /* in OPENLOOP only (the slow step */
                                        /* turns it in ALIGN only) */
