@@ -197,15 +197,20 @@ static void generate(uint32_t seed, spec_t *sp)
     /* commands */
     const double t_start = CALIB_TIME_S + STARTUP_ALIGN_TIME_S + STARTUP_RAMP_TIME_S;
     double t = urand(0.0, 0.05);
-    int running = 0, locked = 0, spun = 0, loaded = 0;
+    int running = 0, locked = 0, spun = 0;
+    double load = 0.0;
+    const double t_peak = kt_nm_per_a(FOC_FLUX_WB) * CURRENT_LIMIT_A;
     const int n = 4 + irand(8);
     for (int k = 0; k < n; k++) {
         const int a = irand(100);
         if (!running || a < 12) {
             /* start, sometimes into a turning rotor: one the bridge does
-             * not drive (a spin of a driven rotor would reverse its
-             * back-EMF in no time, which no shaft does) */
-            if (irand(5) == 0 && !locked && !running) {
+             * not drive, so a stop first and its bound (a spin of a
+             * driven rotor would change its back-EMF in no time, which no
+             * shaft does) */
+            if (irand(5) == 0 && !locked) {
+                spec_add(sp, "%.4f stop\n", t);
+                t += bound_stop_s(wmax);
                 spec_add(sp, "%.4f spin %.0f\n", t, (irand(2) ? 1 : -1) * urand(0.05, 1.0) * wmax);
                 spun = 1;
                 t += urand(0.05, 0.3);
@@ -235,15 +240,19 @@ static void generate(uint32_t seed, spec_t *sp)
             spec_add(sp, "%.4f speed %.0f\n", t, ref);
             t += urand(0.2, 1.0) + t_mech_s(wmax) / J_ENVELOPE * urand(0.5, 5.0);
         } else if (a < 52) { /* load up to 1.5 x rated torque */
-            const double l = loaded ? 0.0 : t_rated * urand(0.1, 1.5);
-            loaded = !loaded;
-            spec_add(sp, "%.4f load %.6g\n", t, l);
+            load = (load > 0.0) ? 0.0 : t_rated * urand(0.1, 1.5);
+            spec_add(sp, "%.4f load %.6g\n", t, load);
             t += urand(0.2, 0.8);
-        } else if (a < 60) { /* lock and unlock */
-            spec_add(sp, "%.4f lock\n", t);
+        } else if (a < 60) { /* jam, then let go: a dry-friction brake of 2 to
+                              * 4 x the motor's peak torque stops the rotor
+                              * within milliseconds and holds it (no shaft
+                              * stops in no time: an instant lock at speed
+                              * moves the back-EMF faster than any current
+                              * loop; the regression files keep `lock`) */
+            spec_add(sp, "%.4f load %.6g\n", t, t_peak * urand(2.0, 4.0));
             locked = 1;
             t += urand(0.1, 1.2);
-            spec_add(sp, "%.4f unlock\n", t);
+            spec_add(sp, "%.4f load %.6g\n", t, load);
             locked = 0;
             t += urand(0.1, 0.4);
         } else if (a < 68) { /* bus sag or surge, then back */
