@@ -39,7 +39,7 @@ static void outputs_off(foc_ctrl_t *c)
  * also restarts the estimator's slow share, which the slow step owns. */
 static void post(foc_ctrl_t *c, foc_post_t what)
 {
-    if (what == FOC_POST_RESTART) {
+    if (what == FOC_POST_RESTART || what == FOC_POST_CATCH) {
         foc_est_track_reset(&c->est);
     }
     c->post = (uint8_t)what;
@@ -48,7 +48,7 @@ static void post(foc_ctrl_t *c, foc_post_t what)
 /* The posted work, at the start of a fast step. */
 static void take_post(foc_ctrl_t *c)
 {
-    if (c->post == (uint8_t)FOC_POST_RESTART) {
+    if (c->post == (uint8_t)FOC_POST_RESTART || c->post == (uint8_t)FOC_POST_CATCH) {
         const foc_est_input_t in = { zero_ab, zero_ab, 0, c->samples.theta_sensor };
         foc_est_reset(&c->est, &in, c->post_on_sensor);
         foc_cc_reset(&c->current_ctrl);
@@ -58,7 +58,12 @@ static void take_post(foc_ctrl_t *c)
         c->i_ref_slewed = zero_dq;
         c->duty = half_duty;
         foc_port_set_duties(&c->duty);
-        if (c->state != FOC_STATE_IDLE && c->state != FOC_STATE_FAULT) {
+        /* CATCH: the probe begins with the bridge off */
+        c->probe = (uint8_t)(c->post == (uint8_t)FOC_POST_CATCH);
+        c->probe_first = 0;
+        if (c->probe != 0u) {
+            foc_port_pwm_disable();
+        } else if (c->state != FOC_STATE_IDLE && c->state != FOC_STATE_FAULT) {
             foc_port_pwm_enable();
         }
     } else {
@@ -128,6 +133,8 @@ void foc_init(foc_ctrl_t *c)
     c->i_ab = zero_ab;
     c->i_dq = zero_dq;
     c->duty = half_duty;
+    c->probe = 0;
+    c->probe_first = 0;
     foc_cs_calib_start(&c->current_sense);
     foc_cc_init(&c->current_ctrl);
     foc_sc_init(&c->speed_ctrl);
@@ -167,8 +174,8 @@ static q15_t forced_vq(q15_t speed, q15_t id)
 }
 
 /* The current loop on the forced angle (start-up) or the estimate: every
- * period in ALIGN, OPENLOOP, RUN, STOP and BRAKE (until the windings are
- * shorted);
+ * period in ALIGN, OPENLOOP, CATCH (after its probe), RUN, STOP and BRAKE
+ * (until the windings are shorted);
  * in the forced frame of the start-up the q axis is voltage-driven
  * (foc_cc_q_forced: damping).  The estimator runs on every period so that
  * it has converged by the hand-over. */
@@ -242,6 +249,122 @@ static void current_loop(foc_ctrl_t *c, uint8_t forced)
     foc_scope_debug_out(c->scope, c);
 }
 
+/* Angle of the short-circuit current i = -(1/L) integral of E over one
+ * short: the EMF's angle + 180 deg, at the middle of the short (about half
+ * a period before the sample).  The rotor (E on its q axis: 90 deg ahead
+ * of it in the direction of rotation) is 90 deg past the current in that
+ * direction, plus half a period of rotation to the sample.  `turn` is the
+ * angle turned per period. */
+static uint16_t probe_rotor_angle(foc_ab_t i, int32_t turn)
+{
+    const uint16_t current = foc_atan2_q15(i.beta, i.alpha);
+    const int32_t quarter = (turn < 0) ? -16384 : 16384;
+    return (uint16_t)((int32_t)current + quarter + turn / 2);
+}
+
+/* Squared magnitude of a current, Q30 / 4 (< 2^29). */
+static int32_t probe_mag2(foc_ab_t i)
+{
+    return (int32_t)(((uint32_t)((int32_t)i.alpha * i.alpha) + (uint32_t)((int32_t)i.beta * i.beta)) >> 2);
+}
+
+/* The second short's sample `i`, FOC_PROBE_SPACING periods after the
+ * first's (in c->i_ab): the rotor's angle and speed preset the estimator,
+ * its back-EMF the current controller.  0 (nothing preset) unless the two
+ * agree on a rotor turning at least at STARTUP_MIN_SPEED_RPM: currents no
+ * more than a factor 2 apart (a current left from before the start, or an
+ * EMF beyond the bus driving current through the diodes, does not look
+ * like two equal shorts). */
+static uint8_t probe_take(foc_ctrl_t *c, foc_ab_t i)
+{
+    const int32_t m1 = probe_mag2(c->i_ab);
+    const int32_t m2 = probe_mag2(i);
+    int32_t turned = (int32_t)foc_atan2_q15(i.beta, i.alpha) -
+                     (int32_t)foc_atan2_q15(c->i_ab.beta, c->i_ab.alpha);
+    turned = (turned > 32767) ? turned - 65536 : (turned < -32768) ? turned + 65536 : turned;
+    const int32_t turn = turned / (int32_t)FOC_PROBE_SPACING; /* per period */
+    const q15_t speed = foc_mul_q15_shift((q15_t)turn, FOC_PROBE_SPEED_MANT, FOC_PROBE_SPEED_SHIFT);
+    /* a factor 2 in magnitude is 4 in the squares (each < 2^29) */
+    if (m1 > 4 * m2 || m2 > 4 * m1 || foc_abs_q15(speed) < FOC_STARTUP_MIN_SPEED) {
+        return 0;
+    }
+    const foc_dq_t emf = { 0, forced_vq(speed, 0) };
+    foc_est_preset(&c->est, probe_rotor_angle(i, turn), speed);
+    foc_cc_preset(&c->current_ctrl, emf);
+    c->i_ab = zero_ab; /* what the estimator starts from */
+    return 1;
+}
+
+/* CATCH's first periods, the flying start's probe: zero voltage on a
+ * turning rotor shorts its back-EMF through the windings, and a current
+ * loop started from zero voltage lets that current grow for the periods
+ * it needs to find the EMF (1.35-1.44 x the limit on the servo caught at
+ * 3500 rpm, tests/torture/regress/4c).  So, twice: the bridge off for
+ * FOC_PROBE_OFF_PERIODS (a current left from before returns to zero
+ * through the diodes), then one period of zero vector (enabled in one
+ * period, disabled in the next, whenever the bridge acts on it) and two
+ * samples, of which the first short keeps the larger (the end of the
+ * short, wherever the bridge's delays put it) and the second the same
+ * one.  Each short's current gives the EMF's angle, the angle turned
+ * between the two, FOC_PROBE_SPACING periods apart, the speed.  Then the
+ * estimator and the current controller are preset to the rotor's angle,
+ * speed and back-EMF while the current returns to zero, and the bridge
+ * takes the rotor holding zero current from the first period.  A first
+ * short with too little current, or shorts that disagree, leave CATCH to
+ * start from rest, the bridge on.
+ * probe: periods since the restart; probe_first: which sample of the
+ * first short (1, 2) was kept, 0 before.  Returns whether the current
+ * loop runs this period, and whether the bridge is enabled after it. */
+/* What catch_probe() leaves to the fast step: nothing, the current loop,
+ * or the current loop and then the bridge enabled. */
+#define PROBE_BUSY 0u
+#define PROBE_LOOP 1u
+#define PROBE_LOOP_ENABLE 2u
+
+FOC_COLD static uint8_t catch_probe(foc_ctrl_t *c)
+{
+    /* the current sense's out-of-line copy: the per-period path keeps
+     * the inline one to itself */
+    const foc_ab_t i = foc_cs_read(&c->current_sense, &c->samples, c->i_ab);
+    const uint8_t k = c->probe;
+    c->probe = (uint8_t)(k + 1u);
+    const uint8_t second = (uint8_t)(k >= FOC_PROBE_OFF_PERIODS + FOC_PROBE_SPACING);
+    const uint8_t j = (uint8_t)(k - FOC_PROBE_OFF_PERIODS - (second != 0u ? FOC_PROBE_SPACING : 0u));
+    if (k < FOC_PROBE_OFF_PERIODS || j > 3u) {
+        return PROBE_BUSY; /* bridge off */
+    }
+    if (j == 0u) {
+        foc_port_pwm_enable(); /* duties 1/2: the short */
+    } else if (j == 1u) {
+        foc_port_pwm_disable();
+    }
+    if (second == 0u) {
+        if (j == 1u) {
+            c->i_ab = i;
+            c->probe_first = 1;
+        } else if (j == 2u && probe_mag2(i) > probe_mag2(c->i_ab)) {
+            c->i_ab = i;
+            c->probe_first = 2;
+        }
+        if (j == 2u && probe_mag2(c->i_ab) < FOC_PROBE_MIN_MAG2) {
+            c->probe = 0; /* slow: CATCH from rest */
+            c->i_ab = i;
+            foc_port_pwm_enable();
+        }
+    } else if (j == c->probe_first) {
+        if (probe_take(c, i) == 0u) {
+            c->probe = 0; /* no agreement: CATCH from rest */
+            c->i_ab = i;
+            foc_port_pwm_enable();
+        }
+    } else if (j == 3u) {
+        /* the current is back to zero: the controller takes the rotor */
+        c->probe = 0;
+        return PROBE_LOOP_ENABLE;
+    }
+    return PROBE_BUSY;
+}
+
 void foc_fast_step(foc_ctrl_t *c)
 {
     foc_port_read_samples(&c->samples);
@@ -255,7 +378,7 @@ void foc_fast_step(foc_ctrl_t *c)
         return;
     }
     if (c->post != (uint8_t)FOC_POST_NONE) {
-        const uint8_t restart = (uint8_t)(c->post == (uint8_t)FOC_POST_RESTART);
+        const uint8_t restart = (uint8_t)(c->post != (uint8_t)FOC_POST_HANDOVER);
         take_post(c);
         if (restart != 0u) {
             /* the restart's period applies zero voltage (duties 1/2) and
@@ -277,7 +400,16 @@ void foc_fast_step(foc_ctrl_t *c)
         }
         current_loop(c, 1u);
         break;
-    case FOC_STATE_CATCH:
+    case FOC_STATE_CATCH: {
+        const uint8_t probe = (c->probe != 0u) ? catch_probe(c) : PROBE_LOOP;
+        if (probe != PROBE_BUSY) {
+            current_loop(c, 0u);
+        }
+        if (probe == PROBE_LOOP_ENABLE) {
+            foc_port_pwm_enable(); /* once the probe's duties are set */
+        }
+        break;
+    }
     case FOC_STATE_RUN:
     case FOC_STATE_STOP:
     case FOC_STATE_BRAKE:
@@ -302,7 +434,8 @@ static void begin_start(foc_ctrl_t *c)
     const uint8_t on_sensor =
         (uint8_t)(c->opt.sensored_start != 0u || c->est.kind == FOC_EST_SENSORED);
     c->post_on_sensor = on_sensor;
-    post(c, FOC_POST_RESTART);
+    const uint8_t catching = (uint8_t)(on_sensor == 0u && c->opt.open_loop_only == 0u);
+    post(c, (catching != 0u) ? FOC_POST_CATCH : FOC_POST_RESTART);
     foc_fw_reset(&c->fw);
     foc_speed_stats_reset(&c->speed_stats);
     foc_startup_begin(&c->startup, c->direction);
@@ -312,10 +445,8 @@ static void begin_start(foc_ctrl_t *c)
     if (on_sensor != 0u) {
         foc_sc_preset(&c->speed_ctrl, 0, 0);
         enter(c, FOC_STATE_RUN);
-    } else if (c->opt.open_loop_only != 0u) {
-        enter(c, FOC_STATE_ALIGN);
     } else {
-        enter(c, FOC_STATE_CATCH);
+        enter(c, (catching != 0u) ? FOC_STATE_CATCH : FOC_STATE_ALIGN);
     }
 }
 

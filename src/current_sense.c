@@ -38,3 +38,8 @@ void foc_cs_calib_add(foc_current_sense_t *cs, const foc_samples_t *s)
         cs->calibrated = 1;
     }
 }
+
+foc_ab_t foc_cs_read(const foc_current_sense_t *cs, const foc_samples_t *s, foc_ab_t previous)
+{
+    return foc_cs_alphabeta(cs, s, previous);
+}

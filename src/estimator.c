@@ -11,31 +11,46 @@ int foc_est_select(foc_estimator_t *est, foc_est_kind_t kind)
     return 0;
 }
 
-void foc_est_reset(foc_estimator_t *est, const foc_est_input_t *in, uint8_t use_sensor)
+/* The sensorless estimator restarted at `theta` and `speed`, with the
+ * present current `i_now`. */
+static void restart_at(foc_estimator_t *est, uint16_t theta, q15_t speed, foc_ab_t i_now)
 {
-    est->use_sensor = (uint8_t)(use_sensor != 0u || est->kind == FOC_EST_SENSORED);
-    foc_sensored_reset(&est->sensored, in->theta_sensor);
     switch (est->kind) {
     case FOC_EST_PLL:
         if (FOC_EST_BUILT(FOC_EST_PLL)) {
-            foc_pll_init(&est->u.pll);
-            foc_pll_reset(&est->u.pll, 0, 0, in->i_ab);
+            foc_pll_reset(&est->u.pll, theta, speed, i_now);
         }
         break;
     case FOC_EST_FLUX:
         if (FOC_EST_BUILT(FOC_EST_FLUX)) {
-            foc_flux_reset(&est->u.flux, 0, 0, in->i_ab);
+            foc_flux_reset(&est->u.flux, theta, speed, i_now);
         }
         break;
     case FOC_EST_LUENBERGER:
         if (FOC_EST_BUILT(FOC_EST_LUENBERGER)) {
-            foc_luen_reset(&est->u.luenberger, 0, 0, in->i_ab);
+            foc_luen_reset(&est->u.luenberger, theta, speed, i_now);
         }
         break;
     default:
         break;
     }
     foc_est_publish(est);
+}
+
+void foc_est_reset(foc_estimator_t *est, const foc_est_input_t *in, uint8_t use_sensor)
+{
+    est->use_sensor = (uint8_t)(use_sensor != 0u || est->kind == FOC_EST_SENSORED);
+    foc_sensored_reset(&est->sensored, in->theta_sensor);
+    if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == FOC_EST_PLL) {
+        foc_pll_init(&est->u.pll);
+    }
+    restart_at(est, 0, 0, in->i_ab);
+}
+
+void foc_est_preset(foc_estimator_t *est, uint16_t theta, q15_t speed)
+{
+    static const foc_ab_t no_current = { 0, 0 };
+    restart_at(est, theta, speed, no_current);
 }
 
 void foc_est_track_flux(foc_estimator_t *est)

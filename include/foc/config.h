@@ -655,6 +655,27 @@ FOC_STATIC_ASSERT(SAMPLE_DELAY_PERIODS >= 1.0 && SAMPLE_DELAY_PERIODS <= 1.5,
 #define FOC_CATCH_TICKS                                                        \
     (FOC_TICKS(CATCH_TIME_S) > 64u ? FOC_TICKS(CATCH_TIME_S) : (uint16_t)64u)
 #define FOC_CATCH_MAX_TICKS ((uint16_t)(2u * FOC_CATCH_TICKS))
+/* CATCH's probe (controller.c, catch_probe): two one-period shorts of the
+ * windings, each after FOC_PROBE_OFF_PERIODS with the bridge off, so
+ * FOC_PROBE_SPACING periods apart.  A rotor is taken on the probe when the
+ * first short drove at least the current of a rotor at twice
+ * STARTUP_MIN_SPEED_RPM (FOC_IREF_STEP_EMF_PU is one period's at that
+ * speed; Q15 of the current base, compared squared, / 4 as probe_mag2).
+ * The speed is the angle turned from one short to the other: the fastest
+ * rotor must turn less than half a turn in FOC_PROBE_SPACING periods. */
+#define FOC_PROBE_OFF_PERIODS 4u
+#define FOC_PROBE_SPACING (FOC_PROBE_OFF_PERIODS + 4u)
+#define FOC_PROBE_MIN_CURRENT ((int32_t)(2.0 * FOC_IREF_STEP_EMF_PU))
+#define FOC_PROBE_MIN_MAG2 ((FOC_PROBE_MIN_CURRENT * FOC_PROBE_MIN_CURRENT) >> 2)
+#define FOC_PROBE_SPEED_PER_ANGLE_PU (32768.0 / FOC_DTHETA_AT_BASE)
+#define FOC_PROBE_SPEED_MANT FOC_GAIN_MANT(FOC_PROBE_SPEED_PER_ANGLE_PU)
+#define FOC_PROBE_SPEED_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_PROBE_SPEED_PER_ANGLE_PU))
+FOC_STATIC_ASSERT(FOC_PROBE_MIN_CURRENT >= 1 && FOC_PROBE_MIN_CURRENT < 16384,
+                  "CATCH probe: STARTUP_MIN_SPEED_RPM's one-period short current out of range");
+FOC_STATIC_ASSERT(FOC_PROBE_SPACING * FOC_DTHETA_AT_BASE * MOTOR_MAX_SPEED_RPM *
+                          (1.0 + OVERSPEED_MARGIN) / SPEED_BASE_RPM < 32768.0,
+                  "CATCH probe: PWM_FREQUENCY_HZ below 16 x the electrical frequency at "
+                  "the overspeed limit");
 /* The speed command is clamped to +-MOTOR_MAX_SPEED_RPM. */
 #define FOC_MAX_SPEED FOC_SPEED_Q15(MOTOR_MAX_SPEED_RPM)
 #define FOC_OVERSPEED FOC_SPEED_Q15(MOTOR_MAX_SPEED_RPM * (1.0 + OVERSPEED_MARGIN))

@@ -91,8 +91,10 @@ typedef enum {
     FOC_POST_RESTART,  /* estimator from rest (post_on_sensor), current */
                        /* controllers and voltages zero, duties at 1/2, */
                        /* bridge on unless the state is IDLE or FAULT */
-    FOC_POST_HANDOVER  /* current controllers preset to post_v, the */
+    FOC_POST_HANDOVER, /* current controllers preset to post_v, the */
                        /* estimator's own angle used from now on */
+    FOC_POST_CATCH     /* RESTART for CATCH: the bridge off, its probe */
+                       /* first (controller.c, catch_probe) */
 } foc_post_t;
 
 /* Requests from the application, consumed by the slow step [cmd]. */
@@ -147,6 +149,10 @@ typedef struct {
     foc_ab_t v_ab_prev;     /* [fast] computed one step earlier: being */
                             /* applied now */
     foc_duty_t duty;        /* [fast] */
+    uint8_t probe;          /* [fast] CATCH's probe: periods since the */
+                            /* restart, 0 once done */
+    uint8_t probe_first;    /* [fast] which sample of the probe's first */
+                            /* short was kept (1, 2; 0: not yet) */
 
     foc_current_sense_t current_sense; /* [slow] starts a calibration in */
                                        /* IDLE, [fast] sums in CALIB */

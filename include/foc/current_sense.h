@@ -52,4 +52,8 @@ static inline foc_ab_t foc_cs_alphabeta(const foc_current_sense_t *cs, const foc
     }
 }
 
+/* The same, out of line, for callers outside the per-period path (the
+ * current loop inlines the one above). */
+foc_ab_t foc_cs_read(const foc_current_sense_t *cs, const foc_samples_t *s, foc_ab_t previous);
+
 #endif /* FOC_CURRENT_SENSE_H */

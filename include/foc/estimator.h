@@ -59,6 +59,10 @@ int foc_est_select(foc_estimator_t *est, foc_est_kind_t kind);
  * with the rotor position unknown; `use_sensor` chooses the source. */
 void foc_est_reset(foc_estimator_t *est, const foc_est_input_t *in, uint8_t use_sensor);
 
+/* The sensorless estimator restarted on a rotor whose angle and speed are
+ * known (the flying start's probe), with no current in the windings. */
+void foc_est_preset(foc_estimator_t *est, uint16_t theta, q15_t speed);
+
 /* Firmware builds only the configured estimator: the others are dead
  * code, so the linker leaves them out.  The host builds them all
  * (focsim --estimator chooses at run time). */

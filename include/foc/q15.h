@@ -19,6 +19,14 @@
 typedef int16_t q15_t;
 typedef int32_t q31_t;
 
+/* A function off the per-period path that the compiler must not inline
+ * into it (inlined, its locals and saved registers cost every period). */
+#if defined(__GNUC__)
+#define FOC_COLD __attribute__((noinline, cold))
+#else
+#define FOC_COLD
+#endif
+
 #define Q15_MAX ((q15_t)32767)
 #define Q15_MIN ((q15_t)-32768)
 

@@ -218,6 +218,41 @@ def c_locked(common, focsim):
               "at the same time within 50 ms (image %s s, focsim %s s)" % (t_pil, t_fs))
 
 
+def userparm(name):
+    """A number from the PIL build's userparms.h (the Shinano motor's)."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    path = os.path.join(here, "..", "..", "boards", "stm3210b_mckit", "userparms.h")
+    with open(path) as fh:
+        for line in fh:
+            w = line.split()
+            if len(w) >= 3 and w[0] == "#define" and w[1] == name:
+                return float(w[2])
+    raise SystemExit("userparms.h: no %s" % name)
+
+
+def c_catch(common, focsim):
+    """A start into a rotor turning at 75 % of its maximum speed: CATCH's
+    probe (two one-period shorts, controller.c) presets the controller, so
+    the image takes the rotor without aligning, within the current limit
+    (judged on the plant's phase currents, every PWM period)."""
+    wmax = userparm("MOTOR_MAX_SPEED_RPM")
+    limit = userparm("CURRENT_LIMIT_A")
+    text = "0.00 spin %.0f\n0.00 speed %.0f\n0.00 start\n0.15 unlock\n1.20 end\n" % (0.75 * wmax, 0.5 * wmax)
+    scn = scenario("catch", text)
+    r, f = run(common, scn)
+    rows = r.rows
+    check(r.m.halted is None, "the image runs without a fault or reset (%s)" % r.m.halted)
+    states = [x[1] for x in rows]
+    check("CATCH" in states and "RUN" in states and "ALIGN" not in states,
+          "CATCH took the turning rotor into RUN without an alignment")
+    peak = max(max(abs(x[16]), abs(x[17]), abs(x[18])) for x in rows) if rows else 1e9
+    check(peak <= 1.05 * limit, "peak phase current %.3f A <= 1.05 x CURRENT_LIMIT_A (%.2f A)"
+          % (peak, 1.05 * limit))
+    end = rows[-1] if rows else None
+    check(end is not None and end[2] == "NONE" and abs(end[4] - 0.5 * wmax) < 0.02 * 0.5 * wmax,
+          "ends without a fault at the command (%s)" % (end[1:5] if end else None,))
+
+
 def agree(f, key, ref, tol_pct=0.5, tol_deg=1.0):
     pm, fm = f.get("pil_speed_%s_mean" % key), f.get("focsim_speed_%s_mean" % key)
     check(pm is not None and fm is not None and abs(pm - fm) <= tol_pct / 100.0 * abs(fm),
@@ -332,6 +367,7 @@ def main():
         fn = {"boot": lambda: c_boot(common), "monitor": lambda: c_monitor(common),
               "watchdog": lambda: c_watchdog(common), "break": lambda: c_break(common, focsim),
               "locked": lambda: c_locked(common, focsim), "step": lambda: c_step(common, focsim),
+              "catch": lambda: c_catch(common, focsim),
               "agree": lambda: c_agree(common, focsim),
               "readings": lambda: c_readings(common, focsim),
               "overruns0": lambda: c_overruns0(common),
