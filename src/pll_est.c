@@ -140,7 +140,7 @@ void foc_pll_track_flux(foc_pll_t *p)
     const q15_t edf = foc_lpf_out(&p->ed);
     const q15_t eqf = foc_lpf_out(&p->eq);
     const int32_t lead = (foc_lpf_out(&p->speed) >= 0) ? -(int32_t)edf : (int32_t)edf;
-    const int32_t track_max = (int32_t)foc_abs_q15(eqf) << 14;
+    const int32_t track_max = (int32_t)foc_abs_q15(eqf) * 16384; /* << 14 */
     int32_t track = p->flux_track + lead * FOC_PLL_TRACK_GAIN_Q14;
     if (track > track_max) {
         track = track_max;
