@@ -627,6 +627,7 @@ static void stop_or_brake(foc_ctrl_t *c)
         enter(c, FOC_STATE_BRAKE);
         break;
     default:
+        c->start_ticks = 0;
         enter(c, FOC_STATE_STOP);
         break;
     }
@@ -760,9 +761,14 @@ static void state_machine(foc_ctrl_t *c)
     case FOC_STATE_STOP:
         speed_loop(c, 0);
         /* down to the stop speed, or (an estimate that never settles) out
-         * of time: outputs off either way */
+         * of time: FOC_STOP_SETTLE_TICKS after the ramp reached zero
+         * (start_ticks, unused in STOP, counts them) or the ramp from the
+         * maximum speed and those: outputs off either way */
+        if (c->speed_ctrl.ramped != 0) {
+            c->start_ticks = 0;
+        }
         if ((c->speed_ctrl.ramped == 0 && foc_abs_q15(c->est.speed) <= FOC_STOP_SPEED) ||
-            c->state_ticks >= FOC_RAMP_DOWN_TICKS) {
+            c->start_ticks >= FOC_STOP_SETTLE_TICKS || c->state_ticks >= FOC_RAMP_DOWN_TICKS) {
             outputs_off(c);
             enter(c, FOC_STATE_IDLE);
         }

@@ -706,9 +706,11 @@ FOC_STATIC_ASSERT(FOC_FOLLOW_SLOW_TICKS < 16384 && FOC_FOLLOW_FAST_TICKS < 16384
                   "CONTROL_SLOW_DIVIDER too small for the follow windows");
 /* Transitional states end within their time (else coast, or a fault):
  * STOP and BRAKE the ramp from the maximum speed plus 0.4 s, a reversal's
- * ramp down the same. */
+ * ramp down the same; STOP also 0.4 s after its own ramp reached zero. */
+#define FOC_STOP_SETTLE_S 0.4
+#define FOC_STOP_SETTLE_TICKS FOC_TICKS(FOC_STOP_SETTLE_S)
 #define FOC_RAMP_DOWN_TICKS                                                    \
-    FOC_TICKS(MOTOR_MAX_SPEED_RPM / SPEED_RAMP_RPM_PER_S + 0.4)
+    FOC_TICKS(MOTOR_MAX_SPEED_RPM / SPEED_RAMP_RPM_PER_S + FOC_STOP_SETTLE_S)
 
 FOC_STATIC_ASSERT(CURRENT_REF_MARGIN >= 0.0 && CURRENT_REF_MARGIN < 0.5,
                   "CURRENT_REF_MARGIN must be in [0, 0.5)");
