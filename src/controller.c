@@ -160,6 +160,7 @@ void foc_init(foc_ctrl_t *c)
     reset_run_state(c);
     outputs_off(c);
     const foc_est_input_t rest = { zero_ab, zero_ab, 0, 0 };
+    c->est.rs_ratio = FOC_RS_RATIO_ONE;
     foc_est_reset(&c->est, &rest, 1);
     foc_est_track_reset(&c->est);
     enter(c, FOC_STATE_IDLE);
@@ -526,6 +527,26 @@ static void hand_over(foc_ctrl_t *c, uint16_t theta_from)
     enter(c, FOC_STATE_RUN);
 }
 
+/* The end of the alignment: the rotor held still on the d axis with
+ * STARTUP_ALIGN_CURRENT_A, so vd = Rs id (no EMF, no di/dt; the dead time
+ * compensated).  The estimators' Rs becomes that measure, as a ratio to
+ * MOTOR_RS_OHM within [0.5, 2): a winding whose resistance differs from
+ * the data sheet's (temperature, cables, tolerance) would otherwise show
+ * its extra voltage drop as a back-EMF, and a stalled rotor as turning.
+ * One sample of the fast step's 16-bit vd and id (the integrator is 32-bit,
+ * which the slow step cannot read whole on a 16-bit core). */
+static void identify_rs(foc_ctrl_t *c)
+{
+    const q15_t id = c->i_dq.d;
+    if (id < FOC_ALIGN_CURRENT / 2) {
+        return; /* not held: no measure */
+    }
+    const int32_t drop = (int32_t)foc_mul_q15_shift(id, FOC_RS_MANT, FOC_RS_SHIFT); /* Rs id */
+    int32_t ratio = ((int32_t)c->v_dq.d * 16384) / ((drop > 0) ? drop : 1);
+    ratio = (ratio < FOC_RS_RATIO_MIN) ? FOC_RS_RATIO_MIN : (ratio > 32767) ? 32767 : ratio;
+    foc_est_set_rs(&c->est, (q15_t)ratio);
+}
+
 static void startup_tick(foc_ctrl_t *c)
 {
     if (c->start_ticks >= FOC_STARTUP_TIMEOUT_TICKS) {
@@ -534,6 +555,7 @@ static void startup_tick(foc_ctrl_t *c)
     }
     if (c->state == FOC_STATE_ALIGN) {
         if (foc_startup_align_tick(&c->startup) != 0u) {
+            identify_rs(c);
             enter(c, FOC_STATE_OPENLOOP);
         }
     } else {

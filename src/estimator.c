@@ -34,6 +34,7 @@ static void restart_at(foc_estimator_t *est, uint16_t theta, q15_t speed, foc_ab
     default:
         break;
     }
+    foc_est_set_rs(est, est->rs_ratio);
     foc_est_publish(est);
 }
 
@@ -51,6 +52,16 @@ void foc_est_preset(foc_estimator_t *est, uint16_t theta, q15_t speed)
 {
     static const foc_ab_t no_current = { 0, 0 };
     restart_at(est, theta, speed, no_current);
+}
+
+void foc_est_set_rs(foc_estimator_t *est, q15_t ratio_q14)
+{
+    est->rs_ratio = ratio_q14;
+    if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == FOC_EST_PLL) {
+        foc_pll_set_rs(&est->u.pll, ratio_q14);
+    } else if (FOC_EST_BUILT(FOC_EST_FLUX) && est->kind == FOC_EST_FLUX) {
+        foc_flux_set_rs(&est->u.flux, ratio_q14);
+    }
 }
 
 void foc_est_track_flux(foc_estimator_t *est)

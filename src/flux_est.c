@@ -24,6 +24,11 @@ static q15_t rotor_flux(q31_t psi_s, q15_t li)
     return foc_sub_q15(foc_q31_to_q15(psi_s), li);
 }
 
+void foc_flux_set_rs(foc_flux_est_t *f, q15_t ratio_q14)
+{
+    f->rs = foc_mul_q15(FOC_RS2_MANT, ratio_q14);
+}
+
 void foc_flux_reset(foc_flux_est_t *f, uint16_t theta, q15_t speed, foc_ab_t i_now)
 {
     const foc_sincos_t sc = foc_sincos_q15(theta);
@@ -33,6 +38,7 @@ void foc_flux_reset(foc_flux_est_t *f, uint16_t theta, q15_t speed, foc_ab_t i_n
     f->psi_beta = (q31_t)foc_add_q15(f->psi_r.beta, ls_i(i_now.beta)) * (q31_t)65536;
     f->i_prev = i_now;
     f->psi_m = (q31_t)FOC_FLUX_PSI_M * (q31_t)65536;
+    foc_flux_set_rs(f, FOC_RS_RATIO_ONE);
     /* Angle history of a constant speed: steps in counts per period,
      * |speed x THETA32_PER_SPEED| < 2^30. */
     const int16_t step = (int16_t)(((int32_t)speed * FOC_THETA32_PER_SPEED) >> 16);
@@ -45,10 +51,10 @@ void foc_flux_reset(foc_flux_est_t *f, uint16_t theta, q15_t speed, foc_ab_t i_n
 /* Eq. 4 on one axis: psi += Ts (v - Rs i_mid), Q31.  v - Rs i reaches
  * 2 pu (full voltage against full current), so it enters at half scale;
  * the increment is below 2^28 (FOC_FLUX_KINT_X < 8192, config.h). */
-static q31_t integrate(q31_t psi, q15_t v, q15_t i, q15_t i_prev)
+static q31_t integrate(q31_t psi, q15_t v, q15_t i, q15_t i_prev, q15_t rs)
 {
     const q15_t i_mid = (q15_t)(((int32_t)i + (int32_t)i_prev) >> 1);
-    const q15_t r_drop = foc_mul_q15_shift(i_mid, FOC_FLUX_RS_MANT, FOC_FLUX_RS_SHIFT);
+    const q15_t r_drop = foc_mul_q15_shift(i_mid, rs, FOC_RS2_SHIFT);
     const q15_t e_half = foc_sat_q15(((int32_t)v - (int32_t)r_drop + 1) >> 1);
     return foc_add_q31(psi, foc_mul_norm32(e_half, FOC_FLUX_KINT_MANT, FOC_FLUX_KINT_RSHIFT));
 }
@@ -99,8 +105,8 @@ static int32_t correction_gain(q15_t speed_abs)
 
 void foc_flux_step(foc_flux_est_t *f, foc_ab_t v_last, foc_ab_t i_now, q15_t iq_ref)
 {
-    f->psi_alpha = integrate(f->psi_alpha, v_last.alpha, i_now.alpha, f->i_prev.alpha);
-    f->psi_beta = integrate(f->psi_beta, v_last.beta, i_now.beta, f->i_prev.beta);
+    f->psi_alpha = integrate(f->psi_alpha, v_last.alpha, i_now.alpha, f->i_prev.alpha, f->rs);
+    f->psi_beta = integrate(f->psi_beta, v_last.beta, i_now.beta, f->i_prev.beta, f->rs);
     f->i_prev = i_now;
     const q15_t li_alpha = ls_i(i_now.alpha);
     const q15_t li_beta = ls_i(i_now.beta);

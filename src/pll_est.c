@@ -11,7 +11,13 @@ void foc_pll_init(foc_pll_t *p)
 {
     p->inv_kfi = FOC_PLL_INVKFI;
     foc_pll_set_ls_scale(p, Q15(0.5));
+    foc_pll_set_rs(p, FOC_RS_RATIO_ONE);
     foc_pll_reset(p, 0, 0, zero_ab);
+}
+
+void foc_pll_set_rs(foc_pll_t *p, q15_t ratio_q14)
+{
+    p->rs = foc_mul_q15(FOC_RS2_MANT, ratio_q14);
 }
 
 void foc_pll_set_inv_kfi(foc_pll_t *p, q15_t inv_kfi)
@@ -67,7 +73,7 @@ static q15_t limited_di(q15_t now, q15_t prev)
 static q15_t emf_component(const foc_pll_t *p, q15_t v, q15_t i, q15_t i_prev)
 {
     const q15_t i_mid = (q15_t)(((int32_t)i + (int32_t)i_prev) >> 1);
-    const q15_t r_drop = foc_mul_q15_shift(i_mid, FOC_PLL_RS_MANT, FOC_PLL_RS_SHIFT);
+    const q15_t r_drop = foc_mul_q15_shift(i_mid, p->rs, FOC_RS2_SHIFT);
     const q15_t l_drop = foc_mul_q15_shift(limited_di(i, i_prev), p->ls_dt, FOC_PLL_LSDT_SHIFT);
     const int32_t e = (int32_t)v - (int32_t)r_drop - (int32_t)l_drop; /* |e| < 3 x 2^15 */
     return foc_sat_q15((e + 1) >> 1);

@@ -158,6 +158,16 @@
 /* Per-unit winding resistance, inductance per PWM period and back-EMF per
  * unit speed (the normalisation of AN1292 equations 5 and 6 in our bases). */
 #define FOC_RS_PU (MOTOR_RS_OHM * FOC_I_BASE_A / FOC_V_BASE_V)
+/* Rs in the PLL's and the flux estimator's EMF, a run-time mantissa over
+ * FOC_RS2_SHIFT with room for twice MOTOR_RS_OHM (FOC_RS2_MANT): the
+ * alignment measures it (controller.c, identify_rs) as a ratio to
+ * MOTOR_RS_OHM, Q14, within [0.5, 2). */
+#define FOC_RS2_SHIFT ((uint8_t)FOC_GAIN_SHIFT(2.0 * FOC_RS_PU))
+#define FOC_RS2_MANT FOC_GAIN_MANT(2.0 * FOC_RS_PU)
+#define FOC_RS_MANT FOC_GAIN_MANT(FOC_RS_PU)
+#define FOC_RS_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_RS_PU))
+#define FOC_RS_RATIO_ONE ((q15_t)16384)
+#define FOC_RS_RATIO_MIN ((q15_t)8192)
 #define FOC_LS_DT_PU (MOTOR_LQ_H * FOC_I_BASE_A / (FOC_V_BASE_V * FOC_TS_S))
 #define FOC_KFI_PU (FOC_FLUX_WB * FOC_WE_BASE_RAD_S / FOC_V_BASE_V)
 #define FOC_INV_KFI_PU (1.0 / FOC_KFI_PU)
@@ -166,8 +176,6 @@
 #define FOC_DI_MAX Q15(FOC_V_BASE_V * FOC_TS_S / MOTOR_LQ_H / FOC_I_BASE_A)
 
 /* -------------------------------------------------- PLL estimator -- */
-#define FOC_PLL_RS_MANT FOC_GAIN_MANT(FOC_RS_PU)
-#define FOC_PLL_RS_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_RS_PU))
 /* Ls/dt with room for the field-weakening scale up to 2x nominal. */
 #define FOC_PLL_LSDT_SHIFT ((uint8_t)FOC_GAIN_SHIFT(2.0 * FOC_LS_DT_PU))
 #define FOC_PLL_LSDT_MANT Q15(FOC_LS_DT_PU / (double)(1L << FOC_PLL_LSDT_SHIFT))
@@ -321,8 +329,6 @@ FOC_STATIC_ASSERT(LUENBERGER_SPEED_FILTER_TIME_S >= 0.0,
 #define FOC_FLUX_PSI_M Q15(FOC_FLUX_WB / FOC_FLUX_BASE_WB)
 #define FOC_FLUX_LS_PU (MOTOR_LQ_H * FOC_I_BASE_A / FOC_FLUX_BASE_WB)
 #define FOC_FLUX_LS Q15(FOC_FLUX_LS_PU)
-#define FOC_FLUX_RS_MANT FOC_GAIN_MANT(FOC_RS_PU)
-#define FOC_FLUX_RS_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_RS_PU))
 /* Integrator: Q31 flux per PWM period per count of (v - Rs i) / 2 (Q15):
  * w_e_base Ts 2^(17 - FOC_FLUX_SHIFT). */
 #define FOC_FLUX_KINT_X (FOC_WE_BASE_RAD_S * FOC_TS_S * 131072.0 / (double)(1L << FOC_FLUX_SHIFT))
@@ -574,7 +580,7 @@ FOC_STATIC_ASSERT(CALIB_TIME_S / FOC_SLOW_TS_S < 65535.0 &&
                   CALIB_TIME_S * PWM_FREQUENCY_HZ >= 1024.0,
                   "CALIB_TIME_S must cover at least 1024 PWM periods");
 FOC_STATIC_ASSERT(SPEED_FILTER_TIME_S >= 0.0, "SPEED_FILTER_TIME_S must be >= 0");
-FOC_STATIC_ASSERT(FOC_RS_PU < 32768.0, "MOTOR_RS_OHM too high for the per-unit format");
+FOC_STATIC_ASSERT(2.0 * FOC_RS_PU < 32768.0, "MOTOR_RS_OHM too high for the per-unit format");
 FOC_STATIC_ASSERT(2.0 * FOC_LS_DT_PU < 32768.0,
                   "MOTOR_LQ_H too high for the per-unit format at PWM_FREQUENCY_HZ");
 FOC_STATIC_ASSERT(FOC_PLL_TRACK_GAIN_Q14 >= 4 && FOC_PLL_TRACK_GAIN_Q14 < 16384,

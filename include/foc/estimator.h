@@ -41,6 +41,8 @@ typedef struct {
     q15_t speed;            /* used by the controller, Q15 of SPEED_BASE_RPM */
     uint16_t est_theta;     /* the selected estimator's own estimate */
     q15_t est_speed;
+    q15_t rs_ratio;         /* [slow] Rs / MOTOR_RS_OHM, Q14: the alignment's */
+                            /* measure, kept over restarts */
     foc_sensored_t sensored;
     union {                 /* one sensorless estimator runs at a time */
         foc_pll_t pll;
@@ -143,6 +145,10 @@ static inline void foc_est_step(foc_estimator_t *est, const foc_est_input_t *in)
  * Estimators without one ignore both. */
 void foc_est_track_flux(foc_estimator_t *est);
 void foc_est_track_reset(foc_estimator_t *est);
+
+/* Rs as a ratio to MOTOR_RS_OHM, Q14 (the alignment's measure), for the
+ * estimators that model it (PLL, flux) from now and after restarts. */
+void foc_est_set_rs(foc_estimator_t *est, q15_t ratio_q14);
 
 /* Field weakening's run-time machine constants: 1/KFi as a mantissa of
  * FOC_PLL_INVKFI_SHIFT and Ls/(2 Ls0) in Q15 (0.5 nominal); estimators

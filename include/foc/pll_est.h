@@ -67,6 +67,7 @@ typedef struct {
     uint8_t low_speed;     /* 1: 8-period average in use */
     q15_t inv_kfi;         /* 1/KFi mantissa (shift FOC_PLL_INVKFI_SHIFT) */
     q15_t ls_dt;           /* Ls/Ts mantissa (shift FOC_PLL_LSDT_SHIFT) */
+    q15_t rs;              /* [slow] Rs mantissa (FOC_RS2_SHIFT) */
     int32_t flux_track;    /* [slow] flux tracking, half-scale EMF Q15 << 14, |.| <= |Eqf| << 14 */
     q15_t flux_corr;       /* [slow] flux_track >> 14, added to eq. 2's numerator */
     uint16_t theta;        /* output angle */
@@ -83,6 +84,8 @@ void foc_pll_reset(foc_pll_t *p, uint16_t theta, q15_t speed, foc_ab_t i_now);
  * ended at this sample. */
 void foc_pll_step(foc_pll_t *p, foc_ab_t v_last, foc_ab_t i_now);
 
+/* Rs as a ratio to MOTOR_RS_OHM, Q14 (the alignment's measure). */
+void foc_pll_set_rs(foc_pll_t *p, q15_t ratio_q14);
 /* Slow step: one step of the flux tracking, in every state whose fast
  * step runs the estimator; its reset at each restart. */
 void foc_pll_track_flux(foc_pll_t *p);

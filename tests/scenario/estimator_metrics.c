@@ -33,7 +33,7 @@ void est_measure(foc_est_kind_t kind, const est_case_t *c, est_result_t *out)
     sim_options_t opt;
     sim_default_options(&opt);
     opt.estimator = kind;
-    opt.sensored_start = 1;
+    opt.sensored_start = !c->aligned_start;
     opt.ideal_inverter = !c->realistic;
     run_t r;
     run_scenario_with(text, &opt, &r);
@@ -80,7 +80,7 @@ double est_lowest_speed(foc_est_kind_t kind, const double *speeds, int n,
 {
     double lowest = 0.0;
     for (int i = 0; i < n; i++) {
-        const est_case_t c = { speeds[i], 0.0, 77.0, NULL, 0 };
+        const est_case_t c = { speeds[i], 0.0, 77.0, NULL, 0, 0 };
         est_result_t r;
         est_measure(kind, &c, &r);
         const int ok = r.in_run && r.ran_on_estimator && r.angle_rms_deg <= rms_max_deg &&

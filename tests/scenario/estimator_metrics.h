@@ -25,6 +25,8 @@ typedef struct {
     int realistic;        /* 0: ideal inverter (no dead time, no */
                           /* compensation); 1: the board's dead time, */
                           /* compensated */
+    int aligned_start;    /* 1: the sensorless start (CATCH, ALIGN, */
+                          /* OPENLOOP) instead of the sensored one */
 } est_case_t;
 
 typedef struct {

@@ -60,7 +60,7 @@ static void case_compare_estimators(void)
         printf("| %s |", rows[i].label);
         for (size_t k = 0; k < 3; k++) {
             const est_case_t c = { rows[i].speed_rpm, rows[i].load_nm, 45.0 + 60.0 * (double)i,
-                                   plant, rows[i].plant == 2 };
+                                   plant, rows[i].plant == 2, 0 };
             est_result_t r;
             est_measure(kinds[k], &c, &r);
             char text[64];

@@ -17,7 +17,7 @@ static void two_speeds(foc_est_kind_t kind, double rms_max, double peak_max)
     const double loads[] = { 0.0, 0.05 };
     for (size_t i = 0; i < 2; i++) {
         for (size_t j = 0; j < 2; j++) {
-            const est_case_t c = { speeds[i], loads[j], 20.0 + 100.0 * (double)i, NULL, 0 };
+            const est_case_t c = { speeds[i], loads[j], 20.0 + 100.0 * (double)i, NULL, 0, 0 };
             est_result_t r;
             est_measure(kind, &c, &r);
             char label[64];
