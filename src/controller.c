@@ -112,6 +112,7 @@ static void reset_run_state(foc_ctrl_t *c)
     c->speed_limited = 0;
     c->handover_id = 0;
     c->start_ticks = 0;
+    c->reversal_speed = 0;
     c->unreliable_ticks = 0;
     c->emf_low_ticks = 0;
     foc_sup_run_reset(&c->sup);
@@ -675,11 +676,19 @@ static void run_tick(foc_ctrl_t *c)
             return;
         }
         if (c->start_ticks >= FOC_RAMP_DOWN_TICKS) {
-            trip(c, (uint16_t)FOC_FAULT_SPEED_FEEDBACK); /* it does not slow down */
-            return;
+            /* a window over: on while the rotor slows (a large inertia at
+             * the current limit), else it does not slow down */
+            const q15_t now = foc_abs_q15(c->est.speed);
+            if ((int32_t)c->reversal_speed - now < FOC_REVERSAL_PROGRESS) {
+                trip(c, (uint16_t)FOC_FAULT_SPEED_FEEDBACK);
+                return;
+            }
+            c->reversal_speed = now;
+            c->start_ticks = 0;
         }
     } else {
         c->start_ticks = 0;
+        c->reversal_speed = foc_abs_q15(c->est.speed);
         speed_loop(c, target);
     }
     const uint16_t faults =

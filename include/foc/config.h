@@ -717,6 +717,13 @@ FOC_STATIC_ASSERT(FOC_FOLLOW_SLOW_TICKS < 16384 && FOC_FOLLOW_FAST_TICKS < 16384
 #define FOC_STOP_SETTLE_TICKS FOC_TICKS(FOC_STOP_SETTLE_S)
 #define FOC_RAMP_DOWN_TICKS                                                    \
     FOC_TICKS(MOTOR_MAX_SPEED_RPM / SPEED_RAMP_RPM_PER_S + FOC_STOP_SETTLE_S)
+/* A reversal's ramp down goes on for another window while the rotor slows
+ * by at least the follow check's progress rate (0.2 % of the maximum speed
+ * + 1 rpm per 60 ms) over the window: a large inertia at the current limit
+ * (the campaign's fan at 2.3 x its inertia: 411 rpm/s). */
+#define FOC_REVERSAL_PROGRESS                                                  \
+    FOC_SPEED_Q15((0.002 * MOTOR_MAX_SPEED_RPM + 1.0) *                            \
+                  (MOTOR_MAX_SPEED_RPM / SPEED_RAMP_RPM_PER_S + FOC_STOP_SETTLE_S) / 0.06)
 
 FOC_STATIC_ASSERT(CURRENT_REF_MARGIN >= 0.0 && CURRENT_REF_MARGIN < 0.5,
                   "CURRENT_REF_MARGIN must be in [0, 0.5)");

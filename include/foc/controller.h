@@ -181,6 +181,8 @@ typedef struct {
                             /* the hand-over */
     q15_t forced_iq_max;    /* [slow] start-up: the q current the forced d */
                             /* current leaves inside the limit */
+    q15_t reversal_speed;   /* [slow] |speed| where a reversal's window */
+                            /* began (it must slow down in each) */
     uint16_t start_ticks;   /* [slow] slow ticks since `start` (start-up */
                             /* timeout; in RUN, a reversal's ramp down) */
     uint16_t unreliable_ticks; /* [slow] stall detection counters */
