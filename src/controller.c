@@ -264,7 +264,7 @@ static uint16_t probe_rotor_angle(foc_ab_t i, int32_t turn)
     return (uint16_t)((int32_t)current + quarter + turn / 2);
 }
 
-/* Squared magnitude of a current, Q30 / 4 (< 2^29). */
+/* Squared magnitude of a current, Q30 / 4 (<= 2^29). */
 static int32_t probe_mag2(foc_ab_t i)
 {
     return (int32_t)(((uint32_t)((int32_t)i.alpha * i.alpha) + (uint32_t)((int32_t)i.beta * i.beta)) >> 2);
@@ -286,8 +286,9 @@ static uint8_t probe_take(foc_ctrl_t *c, foc_ab_t i)
     turned = (turned > 32767) ? turned - 65536 : (turned < -32768) ? turned + 65536 : turned;
     const int32_t turn = turned / (int32_t)FOC_PROBE_SPACING; /* per period */
     const q15_t speed = foc_mul_q15_shift((q15_t)turn, FOC_PROBE_SPEED_MANT, FOC_PROBE_SPEED_SHIFT);
-    /* a factor 2 in magnitude is 4 in the squares (each < 2^29) */
-    if (m1 > 4 * m2 || m2 > 4 * m1 || foc_abs_q15(speed) < FOC_STARTUP_MIN_SPEED) {
+    /* a factor 2 in magnitude is 4 in the squares (each <= 2^29: compared
+     * as a quarter, 4 x 2^29 would overflow) */
+    if ((m1 >> 2) > m2 || (m2 >> 2) > m1 || foc_abs_q15(speed) < FOC_STARTUP_MIN_SPEED) {
         return 0;
     }
     const foc_dq_t emf = { 0, forced_vq(speed, 0) };
