@@ -255,11 +255,10 @@ static void current_loop(foc_ctrl_t *c, uint8_t forced)
  * short: the EMF's angle + 180 deg, at the middle of the short (about half
  * a period before the sample).  The rotor (E on its q axis: 90 deg ahead
  * of it in the direction of rotation) is 90 deg past the current in that
- * direction, plus half a period of rotation to the sample.  `turn` is the
- * angle turned per period. */
-static uint16_t probe_rotor_angle(foc_ab_t i, int32_t turn)
+ * direction, plus half a period of rotation to the sample.  `current` is
+ * the current's angle, `turn` the angle turned per period. */
+static uint16_t probe_rotor_angle(uint16_t current, int32_t turn)
 {
-    const uint16_t current = foc_atan2_q15(i.beta, i.alpha);
     const int32_t quarter = (turn < 0) ? -16384 : 16384;
     return (uint16_t)((int32_t)current + quarter + turn / 2);
 }
@@ -281,10 +280,9 @@ static uint8_t probe_take(foc_ctrl_t *c, foc_ab_t i)
 {
     const int32_t m1 = probe_mag2(c->i_ab);
     const int32_t m2 = probe_mag2(i);
-    int32_t turned = (int32_t)foc_atan2_q15(i.beta, i.alpha) -
-                     (int32_t)foc_atan2_q15(c->i_ab.beta, c->i_ab.alpha);
-    turned = (turned > 32767) ? turned - 65536 : (turned < -32768) ? turned + 65536 : turned;
-    const int32_t turn = turned / (int32_t)FOC_PROBE_SPACING; /* per period */
+    const uint16_t angle = foc_atan2_q15(i.beta, i.alpha);
+    const int32_t turn = (int32_t)foc_angle_diff(angle, foc_atan2_q15(c->i_ab.beta, c->i_ab.alpha)) /
+                         (int32_t)FOC_PROBE_SPACING; /* per period */
     const q15_t speed = foc_mul_q15_shift((q15_t)turn, FOC_PROBE_SPEED_MANT, FOC_PROBE_SPEED_SHIFT);
     /* a factor 2 in magnitude is 4 in the squares (each <= 2^29: compared
      * as a quarter, 4 x 2^29 would overflow) */
@@ -292,7 +290,7 @@ static uint8_t probe_take(foc_ctrl_t *c, foc_ab_t i)
         return 0;
     }
     const foc_dq_t emf = { 0, forced_vq(speed, 0) };
-    foc_est_preset(&c->est, probe_rotor_angle(i, turn), speed);
+    foc_est_preset(&c->est, probe_rotor_angle(angle, turn), speed);
     foc_cc_preset(&c->current_ctrl, emf);
     c->i_ab = zero_ab; /* what the estimator starts from */
     return 1;

@@ -89,6 +89,14 @@ static void ring_push(foc_pll_t *p, foc_ab_t e)
     p->e_next = (uint8_t)((p->e_next + 1u) & (FOC_PLL_AVG_N - 1u));
 }
 
+/* -sgn(w) Edf, w the filtered speed: eq. 2's correction (the estimate
+ * speeds up in the direction in which it lags) and the flux tracking's
+ * input. */
+static inline int32_t lead_of(const foc_pll_t *p, q15_t edf)
+{
+    return (foc_lpf_out(&p->speed) >= 0) ? -(int32_t)edf : (int32_t)edf;
+}
+
 static void update_speed_range(foc_pll_t *p)
 {
     const q15_t w = foc_abs_q15(p->omega);
@@ -122,9 +130,8 @@ void foc_pll_step(foc_pll_t *p, foc_ab_t v_last, foc_ab_t i_now)
     const foc_dq_t e_dq = foc_park_q15(e, foc_sincos_q15(theta_e));
     const q15_t edf = foc_lpf_step(&p->ed, e_dq.d);
     const q15_t eqf = foc_lpf_step(&p->eq, e_dq.q);
-    /* eq. 2 with -sgn(w) Edf (the estimate speeds up in the direction in
-     * which it lags) and the slow step's flux tracking */
-    const int32_t lead = (foc_lpf_out(&p->speed) >= 0) ? -(int32_t)edf : (int32_t)edf;
+    /* eq. 2 (lead_of) and the slow step's flux tracking */
+    const int32_t lead = lead_of(p, edf);
     const int32_t num = (int32_t)eqf + lead + p->flux_corr;
     p->omega = foc_mul_q15_shift(foc_sat_q15(num), p->inv_kfi, FOC_PLL_INVKFI_SHIFT);
 
@@ -145,7 +152,7 @@ void foc_pll_track_flux(foc_pll_t *p)
      * < 2^30 */
     const q15_t edf = foc_lpf_out(&p->ed);
     const q15_t eqf = foc_lpf_out(&p->eq);
-    const int32_t lead = (foc_lpf_out(&p->speed) >= 0) ? -(int32_t)edf : (int32_t)edf;
+    const int32_t lead = lead_of(p, edf);
     const int32_t track_max = (int32_t)foc_abs_q15(eqf) * 16384; /* << 14 */
     int32_t track = p->flux_track + lead * FOC_PLL_TRACK_GAIN_Q14;
     if (track > track_max) {

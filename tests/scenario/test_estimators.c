@@ -73,44 +73,44 @@ static void detuned(const limits_t *lim)
     }
 }
 
-/* The magnet's flux off MOTOR_KE (tolerance, temperature), all else equal:
- * the same limits as the nominal motor, in both directions (the PLL's
- * eq. 2 alone was 25.8 deg off at x0.75, 12.0 deg at x1.3 and 102 deg at
- * x1.3 in reverse). */
+/* One plant parameter at `scale` x its nominal value, all else equal,
+ * 0.05 Nm at `speed`, the nominal motor's limits. */
+static void check_scaled(const limits_t *lim, const char *param, double nominal, double scale,
+                         double speed, double angle, int aligned_start)
+{
+    char plant[64];
+    snprintf(plant, sizeof plant, "0 plant %s %g", param, scale * nominal);
+    const est_case_t c = { speed, 0.05, angle, plant, 0, aligned_start };
+    char label[64];
+    snprintf(label, sizeof label, "%s %s x%.2f %5.0f rpm", foc_est_name(lim->kind), param, scale,
+             speed);
+    check_case(lim, label, &c, lim->rms_max_deg, lim->peak_max_deg);
+}
+
+/* The magnet's flux off MOTOR_KE (tolerance, temperature), in both
+ * directions (the PLL's eq. 2 alone was 25.8 deg off at x0.75, 12.0 deg at
+ * x1.3 and 102 deg at x1.3 in reverse). */
 static void flux_mismatch(const limits_t *lim)
 {
     const double scales[] = { 0.75, 1.3 };
     const double speeds[] = { 1000.0, -1000.0 };
     for (size_t i = 0; i < 2; i++) {
         for (size_t j = 0; j < 2; j++) {
-            char plant[64];
-            snprintf(plant, sizeof plant, "0 plant flux %g", scales[i] * FOC_FLUX_WB);
-            const est_case_t c = { speeds[j], 0.05, 70.0 + 90.0 * (double)j, plant, 0, 0 };
-            char label[64];
-            snprintf(label, sizeof label, "%s flux x%.2f %5.0f rpm", foc_est_name(lim->kind),
-                     scales[i], speeds[j]);
-            check_case(lim, label, &c, lim->rms_max_deg, lim->peak_max_deg);
+            check_scaled(lim, "flux", FOC_FLUX_WB, scales[i], speeds[j], 70.0 + 90.0 * (double)j, 0);
         }
     }
 }
 
 /* The winding's resistance off MOTOR_RS_OHM (x0.7, x1.6: temperature,
- * cables, the data sheet), all else equal, after the sensorless start:
- * the alignment measures Rs for the PLL and the flux estimator (controller.c
- * identify_rs), so the loaded run keeps the nominal motor's limits
- * (without it, neither starts at x0.7 and the flux estimator is 10.7 deg
- * off at x1.6). */
+ * cables, the data sheet) after the sensorless start: the alignment
+ * measures Rs for the PLL and the flux estimator (controller.c
+ * identify_rs; without it, neither starts at x0.7 and the flux estimator
+ * is 10.7 deg off at x1.6). */
 static void rs_mismatch(const limits_t *lim)
 {
     const double scales[] = { 0.7, 1.6 };
     for (size_t i = 0; i < 2; i++) {
-        char plant[64];
-        snprintf(plant, sizeof plant, "0 plant rs %g", scales[i] * MOTOR_RS_OHM);
-        const est_case_t c = { 500.0, 0.05, 200.0, plant, 0, 1 };
-        char label[64];
-        snprintf(label, sizeof label, "%s Rs x%.1f 500 rpm 0.05 Nm", foc_est_name(lim->kind),
-                 scales[i]);
-        check_case(lim, label, &c, lim->rms_max_deg, lim->peak_max_deg);
+        check_scaled(lim, "rs", MOTOR_RS_OHM, scales[i], 500.0, 200.0, 1);
     }
 }
 
