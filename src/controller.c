@@ -524,6 +524,9 @@ static void hand_over(foc_ctrl_t *c, uint16_t theta_from)
     post(c, FOC_POST_HANDOVER); /* after i_ref: the fast step starts from it */
     c->handover_id = c->i_ref.d;
     foc_sc_preset(&c->speed_ctrl, c->est.est_speed, c->i_ref.q);
+    /* a reversal commanded during the start-up begins its windows here */
+    c->start_ticks = 0;
+    c->reversal_speed = foc_abs_q15(c->est.est_speed);
     enter(c, FOC_STATE_RUN);
 }
 
