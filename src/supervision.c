@@ -67,8 +67,8 @@ uint16_t foc_sup_follow(foc_supervision_t *s, q15_t command, q15_t speed, q15_t 
     const int32_t gap = (int32_t)command - (int32_t)speed;
     s->follow_sum += (gap < 0) ? -gap : gap;
     s->follow_ticks++;
-    const uint16_t window =
-        (cmd >= FOC_FOLLOW_SPEED_SPLIT) ? FOC_FOLLOW_FAST_TICKS : FOC_FOLLOW_SLOW_TICKS;
+    const uint8_t fast = (uint8_t)(cmd >= FOC_FOLLOW_SPEED_SPLIT);
+    const uint16_t window = fast ? FOC_FOLLOW_FAST_TICKS : FOC_FOLLOW_SLOW_TICKS;
     if (s->follow_ticks < window) {
         return 0u;
     }
@@ -78,7 +78,8 @@ uint16_t foc_sup_follow(foc_supervision_t *s, q15_t command, q15_t speed, q15_t 
     s->follow_ticks = 0;
     s->follow_sum = 0;
     s->follow_last = mean;
-    if (last < 0 || last - mean >= FOC_FOLLOW_PROGRESS) {
+    const int32_t progress = fast ? FOC_FOLLOW_PROGRESS_FAST : FOC_FOLLOW_PROGRESS_SLOW;
+    if (last < 0 || last - mean >= progress) {
         return 0u; /* the first window, or gaining (a heavy load accelerating) */
     }
     return (uint16_t)FOC_FAULT_SPEED_FEEDBACK;

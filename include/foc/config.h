@@ -705,9 +705,28 @@ FOC_STATIC_ASSERT(FOC_PROBE_SPACING * FOC_DTHETA_AT_BASE * MOTOR_MAX_SPEED_RPM *
  * docs/safety.md). */
 #define FOC_FOLLOW_FAST_TICKS FOC_TICKS(0.06)
 #define FOC_FOLLOW_SLOW_TICKS FOC_TICKS(0.20)
+/* (the progress below takes the same 0.06 and 0.20 s) */
 #define FOC_FOLLOW_SPEED_SPLIT FOC_SPEED_Q15(0.1 * MOTOR_MAX_SPEED_RPM)
-/* gaining: the mean distance to the command shrinks by this per window */
-#define FOC_FOLLOW_PROGRESS FOC_SPEED_Q15(0.002 * MOTOR_MAX_SPEED_RPM + 1.0)
+/* Gaining: the mean distance to the command shrinks by this per window,
+ * 0.2 % of the maximum speed + 1 rpm (above the estimate's noise), or
+ * half what the largest inertia FOLLOW_INERTIA_MAX_KGM2 gains at the
+ * current limit in a window where that is less (a fan with 20 x its
+ * rotor's inertia gains 3 rpm in a fast window, the 4 rpm asked of it
+ * tripped SPEED_FEEDBACK on a rotor that followed). */
+#ifndef FOLLOW_INERTIA_MAX_KGM2
+#define FOLLOW_INERTIA_MAX_KGM2 (20.0 * MOTOR_INERTIA_KGM2)
+#endif
+#define FOC_FOLLOW_ACCEL_MIN_RPM_S                                             \
+    (1.5 * MOTOR_POLE_PAIRS * FOC_FLUX_WB * CURRENT_LIMIT_A * (1.0 - CURRENT_REF_MARGIN) / \
+     FOLLOW_INERTIA_MAX_KGM2 * 60.0 / (2.0 * FOC_PI_D))
+#define FOC_FOLLOW_PROGRESS_RPM(window_s)                                      \
+    ((0.5 * FOC_FOLLOW_ACCEL_MIN_RPM_S * (window_s) < 0.002 * MOTOR_MAX_SPEED_RPM + 1.0) \
+         ? 0.5 * FOC_FOLLOW_ACCEL_MIN_RPM_S * (window_s)                       \
+         : 0.002 * MOTOR_MAX_SPEED_RPM + 1.0)
+#define FOC_FOLLOW_PROGRESS_FAST FOC_SPEED_Q15(FOC_FOLLOW_PROGRESS_RPM(0.06))
+#define FOC_FOLLOW_PROGRESS_SLOW FOC_SPEED_Q15(FOC_FOLLOW_PROGRESS_RPM(0.20))
+FOC_STATIC_ASSERT(FOC_FOLLOW_PROGRESS_FAST >= 2,
+                  "FOLLOW_INERTIA_MAX_KGM2 too large for the follow check's resolution");
 FOC_STATIC_ASSERT(FOC_FOLLOW_SLOW_TICKS < 16384 && FOC_FOLLOW_FAST_TICKS < 16384,
                   "CONTROL_SLOW_DIVIDER too small for the follow windows");
 /* Transitional states end within their time (else coast, or a fault):
