@@ -9,6 +9,7 @@ void foc_cc_init(foc_current_ctrl_t *cc)
     foc_pi_init(&cc->pi_q, FOC_CURRENT_KP_MANT, FOC_CURRENT_KP_SHIFT,
                 FOC_CURRENT_KI, 0, FOC_CURRENT_KC, (q15_t)-FOC_VOLTAGE_LIMIT,
                 FOC_VOLTAGE_LIMIT);
+    cc->pull_integ = 0;
 }
 
 void foc_cc_reset(foc_current_ctrl_t *cc)
@@ -21,4 +22,5 @@ void foc_cc_preset(foc_current_ctrl_t *cc, foc_dq_t v)
 {
     foc_pi_preset(&cc->pi_d, v.d);
     foc_pi_preset(&cc->pi_q, v.q);
+    cc->pull_integ = 0;
 }

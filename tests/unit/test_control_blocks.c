@@ -197,6 +197,42 @@ static void case_voltage_circle(void)
     TK_CHECK(worst <= 1, "|Vdq| exceeds Vmax by %ld LSB", (long)worst);
 }
 
+/* The forced q axis on a q winding (Rs, Lq of userparms.h, one period per
+ * step) whose back-EMF is below the forced voltage by what drives the band
+ * through Rs plus 2 V (a rotor slipping behind the forced frame): the q
+ * current beyond its band is pulled back to the band's edge (the
+ * proportional pull alone leaves 2 V / (Kp + Rs) above it), and once the
+ * EMF matches again the pull leaks away, so the forced voltage acts
+ * alone. */
+static void case_forced_q_holds_band(void)
+{
+    foc_current_ctrl_t cc;
+    foc_cc_init(&cc);
+    const double v_base = FOC_V_BASE_V;
+    const double i_base = FOC_I_BASE_A;
+    const double band_a = 0.5 * CURRENT_LIMIT_A;
+    const q15_t iq_max = FOC_I_Q15(band_a);
+    const double vq_forced_v = 0.3 * v_base;
+    const q15_t vq_forced = Q15(0.3);
+    const q15_t v_max = Q15(0.9);
+    double iq = 0.0; /* A */
+    double emf = vq_forced_v - MOTOR_RS_OHM * band_a - 2.0; /* V */
+    q15_t vq = 0;
+    for (int k = 0; k < 40000; k++) {
+        if (k == 20000) {
+            TK_CHECK(fabs(iq - band_a) <= 0.01 * CURRENT_LIMIT_A,
+                     "slipping: iq %.3f A for a band of %.3f A (P only: +%.3f A)", iq, band_a,
+                     2.0 / (CURRENT_KP_V_PER_A + MOTOR_RS_OHM));
+            emf = vq_forced_v - MOTOR_RS_OHM * 0.5 * band_a; /* back in step */
+        }
+        const q15_t iq_q15 = (q15_t)lround(iq / i_base * 32768.0);
+        vq = foc_cc_q_forced(&cc, vq_forced, iq_q15, iq_max, 0, v_max);
+        iq += FOC_TS_S / MOTOR_LQ_H * (vq * v_base / 32768.0 - emf - MOTOR_RS_OHM * iq);
+    }
+    TK_CHECK(abs(vq - vq_forced) <= 1, "in step: vq %d, the forced %d", vq, vq_forced);
+    TK_CHECK(fabs(iq - 0.5 * band_a) <= 0.01 * CURRENT_LIMIT_A, "in step: iq %.3f A", iq);
+}
+
 /* |Iq| <= sqrt(Ilim^2 - Id^2), 0 when Id takes it all. */
 static void case_current_circle(void)
 {
@@ -278,4 +314,4 @@ TK_CASES(TK_CASE(case_deadtime_error), TK_CASE(case_current_sense), TK_CASE(case
          TK_CASE(case_fw_voltage_mode), TK_CASE(case_protection_thresholds),
          TK_CASE(case_protection_brake_resistor), TK_CASE(case_startup_sequence),
          TK_CASE(case_bus_compensation), TK_CASE(case_voltage_circle),
-         TK_CASE(case_current_circle))
+         TK_CASE(case_current_circle), TK_CASE(case_forced_q_holds_band))
