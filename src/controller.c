@@ -67,7 +67,7 @@ static void take_post(foc_ctrl_t *c)
             foc_port_pwm_enable();
         }
     } else {
-        foc_cc_preset(&c->current_ctrl, c->post_v);
+        foc_cc_preset(&c->current_ctrl, c->post_v, c->est.speed);
         c->i_ref_slewed = c->i_ref;
         c->est.use_sensor = 0;
     }
@@ -230,9 +230,12 @@ static void current_loop(foc_ctrl_t *c, uint8_t forced)
     c->v_dq.d = foc_cc_d_axis(&c->current_ctrl, c->i_ref_slewed.d, c->i_dq.d, v_max);
     if (forced != 0u) {
         /* the q swing current may use what the d current leaves */
+        c->current_ctrl.ff_speed = c->est.speed;
         c->v_dq.q = foc_cc_q_forced(&c->current_ctrl, forced_vq(c->startup.speed, c->i_ref_slewed.d), c->i_dq.q,
                                     c->forced_iq_max, c->v_dq.d, v_max);
     } else {
+        foc_cc_emf_feedforward(&c->current_ctrl, c->est.speed, FOC_EMF_PER_SPEED_MANT,
+                               FOC_EMF_PER_SPEED_SHIFT, FOC_RS_ILIM_V);
         c->v_dq.q = foc_cc_q_axis(&c->current_ctrl, c->i_ref_slewed.q, c->i_dq.q, c->v_dq.d, v_max);
     }
 
@@ -291,7 +294,7 @@ static uint8_t probe_take(foc_ctrl_t *c, foc_ab_t i)
     }
     const foc_dq_t emf = { 0, forced_vq(speed, 0) };
     foc_est_preset(&c->est, probe_rotor_angle(angle, turn), speed);
-    foc_cc_preset(&c->current_ctrl, emf);
+    foc_cc_preset(&c->current_ctrl, emf, speed);
     c->i_ab = zero_ab; /* what the estimator starts from */
     return 1;
 }

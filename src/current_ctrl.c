@@ -10,16 +10,18 @@ void foc_cc_init(foc_current_ctrl_t *cc)
                 FOC_CURRENT_KI, 0, FOC_CURRENT_KC, (q15_t)-FOC_VOLTAGE_LIMIT,
                 FOC_VOLTAGE_LIMIT);
     cc->pull_integ = 0;
+    cc->ff_speed = 0;
 }
 
 void foc_cc_reset(foc_current_ctrl_t *cc)
 {
     const foc_dq_t zero = { 0, 0 };
-    foc_cc_preset(cc, zero);
+    foc_cc_preset(cc, zero, 0);
 }
 
-void foc_cc_preset(foc_current_ctrl_t *cc, foc_dq_t v)
+void foc_cc_preset(foc_current_ctrl_t *cc, foc_dq_t v, q15_t speed)
 {
+    cc->ff_speed = speed;
     foc_pi_preset(&cc->pi_d, v.d);
     foc_pi_preset(&cc->pi_q, v.q);
     cc->pull_integ = 0;

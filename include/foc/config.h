@@ -491,6 +491,9 @@ FOC_STATIC_ASSERT(FOC_NORM_OK(FOC_SOBS_FF_X),
 #define FOC_EMF_PER_SPEED_PU FOC_KFI_PU
 #define FOC_EMF_PER_SPEED_MANT FOC_GAIN_MANT(FOC_EMF_PER_SPEED_PU)
 #define FOC_EMF_PER_SPEED_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_EMF_PER_SPEED_PU))
+/* Rs x the current limit, Q15 of the voltage base: the most a q voltage
+ * below the back-EMF drives (the EMF feedforward's floor). */
+#define FOC_RS_ILIM_V Q15(MOTOR_RS_OHM * CURRENT_LIMIT_A / FOC_V_BASE_V)
 #define FOC_XD_PU (FOC_WE_BASE_RAD_S * MOTOR_LD_H * FOC_I_BASE_A / FOC_V_BASE_V)
 #define FOC_XD_MANT FOC_GAIN_MANT(FOC_XD_PU)
 #define FOC_XD_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_XD_PU))

@@ -19,6 +19,8 @@ typedef struct {
     foc_pi_q15_t pi_q;
     q31_t pull_integ; /* forced frame: integral of the q current beyond its */
                       /* band (foc_cc_q_forced), Q30 of the voltage base */
+    q15_t ff_speed;   /* the feedforward's filtered speed, Q15 of */
+                      /* SPEED_BASE_RPM */
 } foc_current_ctrl_t;
 
 /* Inside its band the pull's integral leaks away in 2^FOC_CC_PULL_LEAK_BITS
@@ -29,7 +31,8 @@ typedef struct {
 /* Gains from userparms.h; integrators cleared. */
 void foc_cc_init(foc_current_ctrl_t *cc);
 
-/* Clears both integrators (outputs start from zero voltage). */
+/* Clears both integrators (outputs start from zero voltage, the rotor
+ * taken at rest). */
 void foc_cc_reset(foc_current_ctrl_t *cc);
 
 /* The q-axis limit left by vd inside the circle of radius v_max:
@@ -106,7 +109,44 @@ static inline q15_t foc_cc_q_forced(foc_current_ctrl_t *cc, q15_t vq, q15_t iq_m
     return vq;
 }
 
-/* Presets both integrators to a voltage (hand-over to another frame). */
-void foc_cc_preset(foc_current_ctrl_t *cc, foc_dq_t v);
+/* The feedforward's speed follows the estimate through a first-order
+ * filter of 2^FOC_CC_FF_FILTER_BITS periods (0.4 ms at 20 kHz): fast
+ * against a jam, slow against the estimate's per-period noise. */
+#define FOC_CC_FF_FILTER_BITS 3
+
+/* Back-EMF feedforward of a slowing rotor, once per period before the q
+ * axis: as |speed| falls, the q integrator drops the EMF it no longer
+ * needs at once.  The PI's zero cancels the winding pole, so an EMF that
+ * vanishes faster than the current loop (a jammed rotor stops in a few
+ * milliseconds) otherwise leaves a current error that decays only at
+ * Rs / L.  Only a slowing rotor, and never below the EMF of the new speed
+ * less Rs x the current limit (`r_ilim`, Q15 voltage): an estimate that
+ * jumps up and falls back (the Luenberger observer losing a slow rotor)
+ * then cannot take the integrator's voltage with it.  A rotor that speeds
+ * up is the PI's to follow.  `speed` Q15 of SPEED_BASE_RPM; emf_mant /
+ * emf_shift the EMF per speed (config.h FOC_EMF_PER_SPEED_*). */
+static inline void foc_cc_emf_feedforward(foc_current_ctrl_t *cc, q15_t speed, q15_t emf_mant,
+                                          uint8_t emf_shift, q15_t r_ilim)
+{
+    const q15_t old = cc->ff_speed;
+    /* |speed - old| < 2^16: the step is a Q15 value */
+    const q15_t step = (q15_t)(((int32_t)speed - old) >> FOC_CC_FF_FILTER_BITS);
+    const q15_t now = (q15_t)(old + step);
+    cc->ff_speed = now;
+    const int32_t integ = cc->pi_q.integ;
+    if (old > 0 && step < 0) {
+        const int32_t lo = foc_mul_q30_shift(now, emf_mant, emf_shift) - FOC_PI_Q15_TO_Q30(r_ilim);
+        const int32_t cand = integ + foc_mul_q30_shift(step, emf_mant, emf_shift);
+        cc->pi_q.integ = (cand >= lo) ? cand : (integ < lo) ? integ : lo;
+    } else if (old < 0 && step > 0) {
+        const int32_t hi = foc_mul_q30_shift(now, emf_mant, emf_shift) + FOC_PI_Q15_TO_Q30(r_ilim);
+        const int32_t cand = integ + foc_mul_q30_shift(step, emf_mant, emf_shift);
+        cc->pi_q.integ = (cand <= hi) ? cand : (integ > hi) ? integ : hi;
+    }
+}
+
+/* Presets both integrators to a voltage (hand-over to another frame), the
+ * feedforward's speed to `speed`. */
+void foc_cc_preset(foc_current_ctrl_t *cc, foc_dq_t v, q15_t speed);
 
 #endif /* FOC_CURRENT_CTRL_H */

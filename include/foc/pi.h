@@ -102,23 +102,11 @@ static inline int32_t foc_pi_unsat(const foc_pi_q15_t *pi, q15_t e)
     return (pi->integ >> 15) + prop;
 }
 
-/* Ki e, Q30: the product times 2^ki_shift, multiplied (never shifted
- * left) and limited to +-2^30 (a step beyond the whole range ends at the
+/* Ki e, Q30, limited to +-2^30 (a step beyond the whole range ends at the
  * limit all the same). */
 static inline int32_t foc_pi_ki_term(const foc_pi_q15_t *pi, q15_t e)
 {
-    const int32_t p = (int32_t)pi->ki * (int32_t)e; /* |p| < 2^30 */
-    if (pi->ki_shift == 0u) {
-        return p;
-    }
-    const int32_t limit = ((int32_t)1 << 30) >> pi->ki_shift;
-    if (p > limit) {
-        return (int32_t)1 << 30;
-    }
-    if (p < -limit) {
-        return -((int32_t)1 << 30);
-    }
-    return p * ((int32_t)1 << pi->ki_shift);
+    return foc_mul_q30_shift(pi->ki, e, pi->ki_shift);
 }
 
 /* The rest of an execution once the limits are known: y = u clamped, and

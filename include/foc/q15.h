@@ -108,6 +108,24 @@ static inline q15_t foc_mul_q15_shift(q15_t a, q15_t b, uint8_t shift)
     return foc_sat_q15((p + (int32_t)(1L << (r - 1u))) >> r);
 }
 
+/* a x b x 2^shift in Q30 (a, b Q15; 0 <= shift <= 15): the product
+ * multiplied (never shifted left), limited to +-2^30 (one per unit). */
+static inline int32_t foc_mul_q30_shift(q15_t a, q15_t b, uint8_t shift)
+{
+    const int32_t p = (int32_t)a * (int32_t)b; /* |p| <= 2^30 */
+    if (shift == 0u) {
+        return p;
+    }
+    const int32_t limit = ((int32_t)1 << 30) >> shift;
+    if (p > limit) {
+        return (int32_t)1 << 30;
+    }
+    if (p < -limit) {
+        return -((int32_t)1 << 30);
+    }
+    return p * ((int32_t)1 << shift);
+}
+
 /* Saturating Q31 addition (for integrators). */
 static inline q31_t foc_add_q31(q31_t a, q31_t b)
 {
