@@ -133,7 +133,8 @@ static inline void foc_cc_emf_feedforward(foc_current_ctrl_t *cc, q15_t speed, q
     const q15_t step = (q15_t)(((int32_t)speed - old) >> FOC_CC_FF_FILTER_BITS);
     const q15_t now = (q15_t)(old + step);
     cc->ff_speed = now;
-    const int32_t integ = cc->pi_q.integ;
+    const int32_t integ = cc->pi_q.integ; /* within +-2^30 (the PI's clamp) */
+    /* each product within +-2^30: the sums below fit int32_t */
     if (old > 0 && step < 0) {
         const int32_t lo = foc_mul_q30_shift(now, emf_mant, emf_shift) - FOC_PI_Q15_TO_Q30(r_ilim);
         const int32_t cand = integ + foc_mul_q30_shift(step, emf_mant, emf_shift);
