@@ -230,9 +230,8 @@ static void current_loop(foc_ctrl_t *c, uint8_t forced)
     c->v_dq.d = foc_cc_d_axis(&c->current_ctrl, c->i_ref_slewed.d, c->i_dq.d, v_max);
     if (forced != 0u) {
         /* the q swing current may use what the d current leaves */
-        c->current_ctrl.ff_speed = c->est.speed;
         c->v_dq.q = foc_cc_q_forced(&c->current_ctrl, forced_vq(c->startup.speed, c->i_ref_slewed.d), c->i_dq.q,
-                                    c->forced_iq_max, c->v_dq.d, v_max);
+                                    c->forced_iq_max, c->v_dq.d, v_max, c->est.speed);
     } else {
         foc_cc_emf_feedforward(&c->current_ctrl, c->est.speed, FOC_EMF_PER_SPEED_MANT,
                                FOC_EMF_PER_SPEED_SHIFT, FOC_RS_ILIM_V);

@@ -711,9 +711,10 @@ FOC_STATIC_ASSERT(FOC_PROBE_SPACING * FOC_DTHETA_AT_BASE * MOTOR_MAX_SPEED_RPM *
  * (two windows, above and below 10 % of the maximum speed; the speed loop
  * needs some tens of ms to reach its limit, inside the 200 / 500 ms of
  * docs/safety.md). */
-#define FOC_FOLLOW_FAST_TICKS FOC_TICKS(0.06)
-#define FOC_FOLLOW_SLOW_TICKS FOC_TICKS(0.20)
-/* (the progress below takes the same 0.06 and 0.20 s) */
+#define FOC_FOLLOW_FAST_S 0.06
+#define FOC_FOLLOW_SLOW_S 0.20
+#define FOC_FOLLOW_FAST_TICKS FOC_TICKS(FOC_FOLLOW_FAST_S)
+#define FOC_FOLLOW_SLOW_TICKS FOC_TICKS(FOC_FOLLOW_SLOW_S)
 #define FOC_FOLLOW_SPEED_SPLIT FOC_SPEED_Q15(0.1 * MOTOR_MAX_SPEED_RPM)
 /* Gaining: the mean distance to the command shrinks by this per window,
  * 0.2 % of the maximum speed + 1 rpm (above the estimate's noise), or
@@ -727,12 +728,13 @@ FOC_STATIC_ASSERT(FOC_PROBE_SPACING * FOC_DTHETA_AT_BASE * MOTOR_MAX_SPEED_RPM *
 #define FOC_FOLLOW_ACCEL_MIN_RPM_S                                             \
     (1.5 * MOTOR_POLE_PAIRS * FOC_FLUX_WB * CURRENT_LIMIT_A * (1.0 - CURRENT_REF_MARGIN) / \
      FOLLOW_INERTIA_MAX_KGM2 * 60.0 / (2.0 * FOC_PI_D))
+#define FOC_FOLLOW_NOISE_RPM (0.002 * MOTOR_MAX_SPEED_RPM + 1.0)
 #define FOC_FOLLOW_PROGRESS_RPM(window_s)                                      \
-    ((0.5 * FOC_FOLLOW_ACCEL_MIN_RPM_S * (window_s) < 0.002 * MOTOR_MAX_SPEED_RPM + 1.0) \
+    ((0.5 * FOC_FOLLOW_ACCEL_MIN_RPM_S * (window_s) < FOC_FOLLOW_NOISE_RPM)     \
          ? 0.5 * FOC_FOLLOW_ACCEL_MIN_RPM_S * (window_s)                       \
-         : 0.002 * MOTOR_MAX_SPEED_RPM + 1.0)
-#define FOC_FOLLOW_PROGRESS_FAST FOC_SPEED_Q15(FOC_FOLLOW_PROGRESS_RPM(0.06))
-#define FOC_FOLLOW_PROGRESS_SLOW FOC_SPEED_Q15(FOC_FOLLOW_PROGRESS_RPM(0.20))
+         : FOC_FOLLOW_NOISE_RPM)
+#define FOC_FOLLOW_PROGRESS_FAST FOC_SPEED_Q15(FOC_FOLLOW_PROGRESS_RPM(FOC_FOLLOW_FAST_S))
+#define FOC_FOLLOW_PROGRESS_SLOW FOC_SPEED_Q15(FOC_FOLLOW_PROGRESS_RPM(FOC_FOLLOW_SLOW_S))
 FOC_STATIC_ASSERT(FOC_FOLLOW_PROGRESS_FAST >= 2,
                   "FOLLOW_INERTIA_MAX_KGM2 too large for the follow check's resolution");
 FOC_STATIC_ASSERT(FOC_FOLLOW_SLOW_TICKS < 16384 && FOC_FOLLOW_FAST_TICKS < 16384,

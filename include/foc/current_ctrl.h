@@ -82,10 +82,11 @@ static inline q15_t foc_cc_q_axis(foc_current_ctrl_t *cc, q15_t iq_ref, q15_t iq
  * than `vq` assumes, and the proportional pull alone left 5 % above the
  * current limit (torture campaign: heavy rotors in OPENLOOP).  The q
  * integrator follows Vq, so switching back to foc_cc_q_axis() is
- * bumpless. */
+ * bumpless; the feedforward's speed follows `speed`, the estimate's. */
 static inline q15_t foc_cc_q_forced(foc_current_ctrl_t *cc, q15_t vq, q15_t iq_meas,
-                                    q15_t iq_max, q15_t vd, q15_t v_max)
+                                    q15_t iq_max, q15_t vd, q15_t v_max, q15_t speed)
 {
+    cc->ff_speed = speed;
     const q15_t iq_free = (iq_meas > iq_max)    ? iq_max
                           : (iq_meas < -iq_max) ? (q15_t)-iq_max
                                                 : iq_meas;

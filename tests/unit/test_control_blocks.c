@@ -226,7 +226,7 @@ static void case_forced_q_holds_band(void)
             emf = vq_forced_v - MOTOR_RS_OHM * 0.5 * band_a; /* back in step */
         }
         const q15_t iq_q15 = (q15_t)lround(iq / i_base * 32768.0);
-        vq = foc_cc_q_forced(&cc, vq_forced, iq_q15, iq_max, 0, v_max);
+        vq = foc_cc_q_forced(&cc, vq_forced, iq_q15, iq_max, 0, v_max, 0);
         iq += FOC_TS_S / MOTOR_LQ_H * (vq * v_base / 32768.0 - emf - MOTOR_RS_OHM * iq);
     }
     TK_CHECK(abs(vq - vq_forced) <= 1, "in step: vq %d, the forced %d", vq, vq_forced);
