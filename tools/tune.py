@@ -30,7 +30,9 @@ Formulas (SI units; p pole pairs, psi flux linkage, fs PWM frequency):
                        fc = max(1 kHz, electrical frequency at n_top),
                        at most fs/16
   speed PI             Kt = 1.5 p psi; Kp = J wb / Kt, Ki = Kp wb / 4
-                       (default wb = 600 rad/s)
+                       (default wb = min(600, max(150, w_L)) rad/s, w_L the
+                       bandwidth an inductance error of 50 % leaves stable:
+                       speed_bw_for_inductance_error)
   Luenberger observer  error poles s^2 + (Rs/L - K1) s + K2/L: critically
                        damped at wo (default 6661.5 rad/s: ST's K1, K2 on the
                        Hurst075): K2 = L wo^2, K1 = Rs/L - 2 wo; F1, F2 the
@@ -74,7 +76,10 @@ REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SQRT3 = math.sqrt(3.0)
 RPM = 2.0 * math.pi / 60.0          # rad/s per rpm
 
-DEFAULT_SPEED_BW = 600.0            # rad/s
+DEFAULT_SPEED_BW = 600.0            # rad/s, unless the motor needs less:
+L_ERROR_ENVELOPE = 0.5              # |plant L / parameter - 1| the estimators must bear
+SPEED_LAG_PHASE = 0.3               # rad the fake speed of an L error may cost the speed loop
+SPEED_BW_MIN = 150.0                # rad/s: slower, the follow checks and the FW lose the loop
 DEFAULT_FW_BW = 160.0               # rad/s
 DEFAULT_OBSERVER_BW = 6661.5        # rad/s: ST's K1, K2 on the Hurst075
 FW_PI_TIME_S = 0.625e-3             # Kp / Ki of the field-weakening PI
@@ -138,6 +143,22 @@ HINTS = {
     "rs": "the field is rs_ohm", "ls": "the field is ls_h", "ke": "give "
     "ke_vpk_ll_per_krpm, ke_vrms_ll_per_krpm or flux_linkage_wb",
 }
+
+
+def speed_bw_for_inductance_error(p, psi, j, lq):
+    """The fastest speed loop (rad/s) that an inductance error leaves stable.
+
+    Every estimator subtracts L i from the flux (or L di/dt from the
+    EMF): with the plant's L off by dL its angle is off by dL iq / psi,
+    so its speed by (dL / psi) diq/dt / p.  The speed PI (Kp = J wb / Kt)
+    turns that fake speed back into current: a derivative path of time
+    constant tau = J wb dL / (Kt p psi).  Kept to tau wb <= SPEED_LAG_PHASE
+    (its phase at the crossover), with dL the envelope's L_ERROR_ENVELOPE x Lq:
+    wb^2 <= SPEED_LAG_PHASE 1.5 p^2 psi^2 / (J dL).  Motors whose Lq I is
+    large beside psi (the drone motor: 1.1) need a slower speed loop
+    (torture campaign, docs/safety.md)."""
+    d_l = L_ERROR_ENVELOPE * lq
+    return math.sqrt(SPEED_LAG_PHASE * 1.5 * p * p * psi * psi / (j * d_l))
 
 
 class Description:
@@ -559,6 +580,9 @@ def choose(motor, board, opt):
 
     # speed loop
     wb = opt.speed_bw_rad_s
+    if wb is None:
+        wb = min(DEFAULT_SPEED_BW,
+                 max(SPEED_BW_MIN, speed_bw_for_inductance_error(p, psi, j, lq)))
     if not 0.0 < wb <= wc / 4.0:
         raise InputError("--speed-bw-rad-s %g: must be in (0, current-loop bandwidth / 4 = "
                          "%.0f rad/s]" % (wb, wc / 4.0))
@@ -1070,7 +1094,9 @@ def main(argv=None):
     ap.add_argument("--current-bw-hz", type=float, default=None,
                     help="current-loop bandwidth (default max(1 kHz, electrical frequency "
                     "at the top speed), at most fs/16)")
-    ap.add_argument("--speed-bw-rad-s", type=float, default=DEFAULT_SPEED_BW)
+    ap.add_argument("--speed-bw-rad-s", type=float, default=None,
+                    help="speed-loop bandwidth (default %g rad/s, or less where the motor's "
+                    "inductance error would destabilise it)" % DEFAULT_SPEED_BW)
     ap.add_argument("--observer-bw-rad-s", type=float, default=DEFAULT_OBSERVER_BW,
                     help="Luenberger observer error poles (critically damped)")
     ap.add_argument("--fw-bw-rad-s", type=float, default=DEFAULT_FW_BW,
@@ -1085,7 +1111,7 @@ def main(argv=None):
     opt = ap.parse_args(argv)
     try:
         for name in ("speed_bw_rad_s", "observer_bw_rad_s", "fw_bw_rad_s"):
-            if not getattr(opt, name) > 0.0:
+            if getattr(opt, name) is not None and not getattr(opt, name) > 0.0:
                 raise InputError("--%s must be > 0" % name.replace("_", "-"))
         motor = read_motor(opt.motor)
         board = read_board(opt.board)

@@ -15,7 +15,7 @@
  *   current into the motor), ST's MAX_CURRENT 2.9 A; the heatsink NTC read
  *   as T = 14 degC + 195 degC x (V / 3.3 V) (MC_MotorControl_Layer.c). These
  *   are the kit's nominal values: check them against the board in hand.
- * Written by tools/tune.py: current loop 1000 Hz, speed loop 600 rad/s,
+ * Written by tools/tune.py: current loop 1000 Hz, speed loop 381.972 rad/s,
  *   observer 6661.5 rad/s.
  *
  * The template userparms.h.in is this file for its motor and board (the
@@ -89,8 +89,8 @@
 /* --------------------------------------------------------- speed control -- */
 /* Speed PI from amperes of q current per rpm of error: Kp = J wb / Kt and
  * Ki = Kp wb / 4 for the bandwidth wb of the header, Kt = 1.5 p flux. */
-#define SPEED_KP_A_PER_RPM          0.01343
-#define SPEED_KI_A_PER_RPM_S        2.015
+#define SPEED_KP_A_PER_RPM          8.55e-3
+#define SPEED_KI_A_PER_RPM_S        0.8165
 #define SPEED_RAMP_RPM_PER_S        10000.0  /* reference slew rate */
 #define SPEED_FILTER_TIME_S         0.5e-3   /* speed measurement filter */
 

@@ -247,6 +247,15 @@ def options(work):
           abs(float(d["SPEED_KI_A_PER_RPM_S"]) / (kp * 75) - 1) < 1e-3,
           "--speed-bw-rad-s 300: Kp = J wb / Kt, Ki = Kp wb / 4 (%s, %s)" % (
               d["SPEED_KP_A_PER_RPM"], d["SPEED_KI_A_PER_RPM_S"]))
+    # Without the option the speed loop is slowed where an inductance error of
+    # 50 % would feed back through the estimated speed (tau wb <= 0.3 rad):
+    # wb^2 = 0.3 x 1.5 p^2 psi^2 / (J x 0.5 Lq), here 320 rad/s.
+    wb = (0.3 * 1.5 * 16 * psi * psi / (1.5e-5 * 0.5 * 60e-6)) ** 0.5
+    d = defines(generate(work, LOWL, LV40K, "--current-bw-hz", "500"))
+    kp = 1.5e-5 * wb / (1.5 * 4 * psi) * 2 * 3.14159265 / 60
+    check(150 < wb < 600 and abs(float(d["SPEED_KP_A_PER_RPM"]) / kp - 1) < 1e-3,
+          "default speed loop of a motor whose Lq I is large beside psi: %.0f rad/s (Kp %s)" % (
+              wb, d["SPEED_KP_A_PER_RPM"]))
     rc, so, se = tune("--motor", LOWL, "--board", LV40K, "--speed-bw-rad-s", "5000",
                       "--check")
     check(rc == 1 and "--speed-bw-rad-s 5000" in se, "a speed loop faster than the current "
