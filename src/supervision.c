@@ -8,11 +8,17 @@ void foc_sup_init(foc_supervision_t *s)
     foc_sup_run_reset(s);
 }
 
-void foc_sup_run_reset(foc_supervision_t *s)
+/* No window of the follow check under way, none before it. */
+static void follow_restart(foc_supervision_t *s)
 {
     s->follow_ticks = 0;
     s->follow_sum = 0;
-    s->follow_last = -1;
+    s->follow_last = FOC_SUP_FOLLOW_NONE;
+}
+
+void foc_sup_run_reset(foc_supervision_t *s)
+{
+    follow_restart(s);
     s->overspeed_ticks = 0;
 }
 
@@ -58,29 +64,30 @@ uint16_t foc_sup_follow(foc_supervision_t *s, q15_t command, q15_t speed, q15_t 
         (uint8_t)(cmd != 0 && ((int32_t)foc_abs_q15(speed) * 2 < (int32_t)cmd ||
                                (speed < 0) != (command < 0)));
     if (limited == 0u || behind == 0u) {
-        s->follow_ticks = 0;
-        s->follow_sum = 0;
-        s->follow_last = -1;
+        follow_restart(s);
         return 0u;
     }
-    /* |command - speed| <= 2^16; a window of at most 2^14 ticks (config.h) */
-    const int32_t gap = (int32_t)command - (int32_t)speed;
-    s->follow_sum += (gap < 0) ? -gap : gap;
+    /* |speed| <= 2^15; a window of at most 2^14 ticks (config.h) */
+    s->follow_sum += speed;
     s->follow_ticks++;
     const uint8_t fast = (uint8_t)(cmd >= FOC_FOLLOW_SPEED_SPLIT);
     const uint16_t window = fast ? FOC_FOLLOW_FAST_TICKS : FOC_FOLLOW_SLOW_TICKS;
     if (s->follow_ticks < window) {
         return 0u;
     }
-    /* a window over: its mean distance against the last window's */
+    /* a window over: its mean speed against the last window's */
     const int32_t mean = s->follow_sum / (int32_t)window;
     const int32_t last = s->follow_last;
     s->follow_ticks = 0;
     s->follow_sum = 0;
     s->follow_last = mean;
     const int32_t progress = fast ? FOC_FOLLOW_PROGRESS_FAST : FOC_FOLLOW_PROGRESS_SLOW;
-    if (last < 0 || last - mean >= progress) {
-        return 0u; /* the first window, or gaining (a heavy load accelerating) */
+    /* gaining: the speed moved toward the command's direction (a heavy
+     * load accelerating), however far the command is and wherever it
+     * moved meanwhile */
+    if (last == FOC_SUP_FOLLOW_NONE ||
+        ((command < 0) ? last - mean : mean - last) >= progress) {
+        return 0u;
     }
     return (uint16_t)FOC_FAULT_SPEED_FEEDBACK;
 }

@@ -11,10 +11,11 @@
  *   its current limit with the speed below half the command and not
  *   gaining on it (SPEED_FEEDBACK) -- a locked rotor at 100 rpm, where the
  *   estimator's statistics are blind, or a load the motor cannot carry.
- *   Gaining is judged on the mean distance to the command over two
- *   consecutive windows, so a heavy load accelerating slowly at the limit
- *   (a fan) is not taken for a stall, and one noisy estimate is not
- *   taken for progress.
+ *   Gaining is judged on the mean speed over two consecutive windows,
+ *   toward the command's direction, so a heavy load accelerating slowly at the
+ *   limit (a fan) is not taken for a stall, one noisy estimate is not
+ *   taken for progress, and a new command farther away is not taken for
+ *   ground lost.
  *
  * Units: currents Q15 of the current base, speeds Q15 of SPEED_BASE_RPM.
  * Called from the slow step; each check returns the fault bits to raise.
@@ -29,10 +30,15 @@ typedef struct {
     int32_t heat;            /* (I / I_rated)^2 filtered, Q20 (1.0 = rated) */
     uint16_t follow_ticks;   /* slow ticks of the present window at the */
                              /* limit and behind */
-    int32_t follow_sum;      /* sum of |command - speed| over the window */
-    int32_t follow_last;     /* the previous window's mean, -1 if none */
+    int32_t follow_sum;      /* sum of the speed over the window */
+    int32_t follow_last;     /* the previous window's mean, */
+                             /* FOC_SUP_FOLLOW_NONE if none */
     uint8_t overspeed_ticks; /* consecutive slow ticks above the overspeed */
 } foc_supervision_t;
+
+/* follow_last with no window before the present one (a mean lies within
+ * +-2^15). */
+#define FOC_SUP_FOLLOW_NONE INT32_MIN
 
 /* Cold motor, counters clear (power-up). */
 void foc_sup_init(foc_supervision_t *s);

@@ -17,6 +17,7 @@
 #include "foc/protection.h"
 #include "foc/speed_ctrl.h"
 #include "foc/startup.h"
+#include "foc/supervision.h"
 #include "testkit.h"
 
 /* The only port function these blocks call. */
@@ -388,9 +389,53 @@ static void case_deadtime_error(void)
     TK_CHECK(e0.alpha == 0 && e0.beta == 0, "zero current: %d %d", e0.alpha, e0.beta);
 }
 
+/* The follow check on the speed, not on the distance to the command: a
+ * rotor gaining slowly at the current limit (FOC_FOLLOW_PROGRESS_SLOW per
+ * window, below 10 % of the maximum speed) is not a stall, even when the
+ * command moves farther away within a window (the distance then grows: a
+ * fan accelerating at 122 rpm/s tripped SPEED_FEEDBACK on a new command);
+ * a rotor that does not gain trips after two windows whatever the command
+ * does; both directions. */
+static uint16_t follow_run(int dir, int gain_per_window, int command_step, unsigned windows)
+{
+    foc_supervision_t s;
+    foc_sup_init(&s);
+    const q15_t iq_max = FOC_I_Q15(1.0);
+    const int32_t window = FOC_FOLLOW_SLOW_TICKS;
+    /* below the fast windows' split throughout, above twice the speed */
+    const int32_t cmd0 =
+        FOC_FOLLOW_SPEED_SPLIT - 1 - (int32_t)windows * (command_step > 0 ? command_step : 0);
+    int32_t speed = 10;
+    for (int32_t k = 0; k < (int32_t)windows * window; k++) {
+        /* the command steps up halfway through each window */
+        const int32_t cmd = cmd0 + (((k + window / 2) / window) * command_step);
+        speed += ((k % window) == 0) ? gain_per_window : 0;
+        const uint16_t f = foc_sup_follow(&s, (q15_t)(dir * cmd), (q15_t)(dir * speed),
+                                          (q15_t)(dir * iq_max), iq_max);
+        if (f != 0u) {
+            return f;
+        }
+    }
+    return 0u;
+}
+
+static void case_follow_check(void)
+{
+    const int gain = FOC_FOLLOW_PROGRESS_SLOW + 1;
+    for (int dir = -1; dir <= 1; dir += 2) {
+        TK_CHECK(follow_run(dir, gain, 0, 6) == 0u, "dir %d: gaining, fixed command", dir);
+        TK_CHECK(follow_run(dir, gain, 4 * gain, 6) == 0u,
+                 "dir %d: gaining, the command moving away", dir);
+        TK_CHECK(follow_run(dir, 0, 0, 6) == (uint16_t)FOC_FAULT_SPEED_FEEDBACK,
+                 "dir %d: stalled, fixed command", dir);
+        TK_CHECK(follow_run(dir, 0, -4 * gain, 6) == (uint16_t)FOC_FAULT_SPEED_FEEDBACK,
+                 "dir %d: stalled, the command coming closer", dir);
+    }
+}
+
 TK_CASES(TK_CASE(case_deadtime_error), TK_CASE(case_current_sense), TK_CASE(case_faults_first_latched), TK_CASE(case_fw_table_bounds),
          TK_CASE(case_fw_voltage_mode), TK_CASE(case_protection_thresholds),
          TK_CASE(case_protection_brake_resistor), TK_CASE(case_startup_sequence),
          TK_CASE(case_bus_compensation), TK_CASE(case_voltage_circle),
          TK_CASE(case_current_circle), TK_CASE(case_forced_q_holds_band),
-         TK_CASE(case_emf_feedforward))
+         TK_CASE(case_emf_feedforward), TK_CASE(case_follow_check))
