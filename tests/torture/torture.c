@@ -456,7 +456,12 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
     /* history for the causes of faults */
     if (m->rotor == PMSM_ROTOR_LOCKED) o->last_lock_t = t;
     if (m->rotor == PMSM_ROTOR_SPIN) o->last_spin_t = t;
-    if (m->load_nm > 0.9 * kt_nm_per_a(m->p.flux_wb) * CURRENT_LIMIT_A ||
+    /* the torque against the rotor: the load and the friction, dry and
+     * viscous (a load just below the limit's torque with friction on top
+     * is beyond it) */
+    const double against_nm =
+        m->load_nm + m->p.coulomb_nm + m->p.b_nm_per_rad_s * fabs(w) * RAD_S_PER_RPM;
+    if (against_nm > 0.9 * kt_nm_per_a(m->p.flux_wb) * CURRENT_LIMIT_A ||
         ((st == FOC_STATE_ALIGN || st == FOC_STATE_OPENLOOP) &&
          m->load_nm + m->p.coulomb_nm > 0.9 * kt_nm_per_a(m->p.flux_wb) * STARTUP_CURRENT_FINAL_A)) {
         o->last_heavy_t = t;
