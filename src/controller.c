@@ -35,6 +35,13 @@ static void outputs_off(foc_ctrl_t *c)
     c->i_ref = zero_dq;
 }
 
+/* Bridge off, back to IDLE (a start-up, stop or brake that ends). */
+static void to_idle(foc_ctrl_t *c)
+{
+    outputs_off(c);
+    enter(c, FOC_STATE_IDLE);
+}
+
 /* Posts work for the fast step's next period (controller.h); a restart
  * also restarts the estimator's slow share, which the slow step owns. */
 static void post(foc_ctrl_t *c, foc_post_t what)
@@ -647,8 +654,7 @@ static void stop_or_brake(foc_ctrl_t *c)
 {
     switch (c->opt.stop_mode) {
     case STOP_MODE_COAST:
-        outputs_off(c);
-        enter(c, FOC_STATE_IDLE);
+        to_idle(c);
         break;
     case STOP_MODE_SHORT:
         enter(c, FOC_STATE_BRAKE);
@@ -727,8 +733,7 @@ static void brake_tick(foc_ctrl_t *c)
     } else if (c->state_ticks >= FOC_RAMP_DOWN_TICKS) {
         /* it does not slow down: shorting now could exceed the current
          * limit, so let it coast */
-        outputs_off(c);
-        enter(c, FOC_STATE_IDLE);
+        to_idle(c);
     }
 }
 
@@ -782,8 +787,7 @@ static void state_machine(foc_ctrl_t *c)
     case FOC_STATE_ALIGN:
     case FOC_STATE_OPENLOOP:
         if (c->req.stop != 0u) {
-            outputs_off(c);
-            enter(c, FOC_STATE_IDLE);
+            to_idle(c);
         } else if (c->state == FOC_STATE_CATCH) {
             catch_tick(c);
         } else {
@@ -804,8 +808,7 @@ static void state_machine(foc_ctrl_t *c)
         }
         if ((c->speed_ctrl.ramped == 0 && foc_abs_q15(c->est.speed) <= FOC_STOP_SPEED) ||
             c->start_ticks >= FOC_STOP_SETTLE_TICKS || c->state_ticks >= FOC_RAMP_DOWN_TICKS) {
-            outputs_off(c);
-            enter(c, FOC_STATE_IDLE);
+            to_idle(c);
         }
         break;
     case FOC_STATE_BRAKE:
