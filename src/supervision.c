@@ -56,8 +56,7 @@ uint16_t foc_sup_follow(foc_supervision_t *s, q15_t command, q15_t speed, q15_t 
                         q15_t iq_max)
 {
     const q15_t cmd = foc_abs_q15(command);
-    /* at the limit: within 1/8 of it; a limit near zero (field weakening
-     * took the current) counts as at the limit */
+    /* at the limit: within 1/8 of it */
     const uint8_t limited = (uint8_t)((int32_t)foc_abs_q15(iq_ref) * 8 >= (int32_t)iq_max * 7);
     /* behind: below half the command, or turning the other way */
     const uint8_t behind =
