@@ -703,8 +703,7 @@ static void run_tick(foc_ctrl_t *c)
     }
     const uint16_t faults =
         (uint16_t)(foc_sup_overspeed(&c->sup, c->est.speed) |
-                   foc_sup_follow(&c->sup, target, c->est.speed, c->i_ref.q,
-                                  FOC_CURRENT_LIMIT));
+                   foc_sup_follow(&c->sup, target, c->est.speed, c->i_ref.q));
     if (faults != 0u) {
         trip(c, faults);
         return;

@@ -400,7 +400,7 @@ static uint16_t follow_run(int dir, int gain_per_window, int command_step, unsig
 {
     foc_supervision_t s;
     foc_sup_init(&s);
-    const q15_t iq_max = FOC_I_Q15(1.0);
+    const q15_t iq_max = FOC_CURRENT_LIMIT;
     const int32_t window = FOC_FOLLOW_SLOW_TICKS;
     /* below the fast windows' split throughout, above twice the speed */
     const int32_t cmd0 =
@@ -410,8 +410,8 @@ static uint16_t follow_run(int dir, int gain_per_window, int command_step, unsig
         /* the command steps up halfway through each window */
         const int32_t cmd = cmd0 + (((k + window / 2) / window) * command_step);
         speed += ((k % window) == 0) ? gain_per_window : 0;
-        const uint16_t f = foc_sup_follow(&s, (q15_t)(dir * cmd), (q15_t)(dir * speed),
-                                          (q15_t)(dir * iq_max), iq_max);
+        const uint16_t f =
+            foc_sup_follow(&s, (q15_t)(dir * cmd), (q15_t)(dir * speed), (q15_t)(dir * iq_max));
         if (f != 0u) {
             return f;
         }
