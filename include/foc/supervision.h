@@ -12,10 +12,10 @@
  *   gaining on it (SPEED_FEEDBACK) -- a locked rotor at 100 rpm, where the
  *   estimator's statistics are blind, or a load the motor cannot carry.
  *   Gaining is judged on the mean speed over two consecutive windows,
- *   toward the command's direction, so a heavy load accelerating slowly at the
- *   limit (a fan) is not taken for a stall, one noisy estimate is not
- *   taken for progress, and a new command farther away is not taken for
- *   ground lost.
+ *   toward the command's direction, so a heavy load accelerating slowly
+ *   at the limit (a fan) is not taken for a stall, one noisy estimate is
+ *   not taken for progress, and a new command farther away is not taken
+ *   for ground lost.
  *
  * Units: currents Q15 of the current base, speeds Q15 of SPEED_BASE_RPM.
  * Called from the slow step; each check returns the fault bits to raise.
