@@ -720,11 +720,10 @@ FOC_STATIC_ASSERT(FOC_PROBE_SPACING * FOC_DTHETA_AT_BASE * MOTOR_MAX_SPEED_RPM *
 #define FOC_FOLLOW_SPEED_SPLIT FOC_SPEED_Q15(0.1 * MOTOR_MAX_SPEED_RPM)
 /* Gaining: the mean speed moves toward the command's direction by this
  * per window, 0.2 % of the maximum speed + 1 rpm (above the estimate's
- * noise), or
- * half what the largest inertia FOLLOW_INERTIA_MAX_KGM2 gains at the
- * current limit in a window where that is less (a fan with 20 x its
- * rotor's inertia gains 3 rpm in a fast window, the 4 rpm asked of it
- * tripped SPEED_FEEDBACK on a rotor that followed). */
+ * noise), or half what the largest inertia FOLLOW_INERTIA_MAX_KGM2 gains
+ * at the current limit in a window where that is less (a fan with 20 x
+ * its rotor's inertia gains 3 rpm in a fast window, the 4 rpm asked of
+ * it tripped SPEED_FEEDBACK on a rotor that followed). */
 #ifndef FOLLOW_INERTIA_MAX_KGM2
 #define FOLLOW_INERTIA_MAX_KGM2 (20.0 * MOTOR_INERTIA_KGM2)
 #endif
