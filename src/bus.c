@@ -26,12 +26,12 @@ static void derive_limits(foc_bus_t *bus)
 
 void foc_bus_init(foc_bus_t *bus, q15_t vdc)
 {
-    foc_lpf_init(&bus->vdc, FOC_VDC_FILTER_K, vdc);
+    foc_lpf_init(&bus->vdc, vdc);
     derive_limits(bus);
 }
 
 void foc_bus_update(foc_bus_t *bus, q15_t vdc)
 {
-    (void)foc_lpf_step(&bus->vdc, vdc);
+    (void)foc_lpf_step(&bus->vdc, vdc, FOC_VDC_FILTER_K);
     derive_limits(bus);
 }

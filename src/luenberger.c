@@ -91,7 +91,7 @@ void foc_luen_reset(foc_luenberger_t *l, uint16_t theta, q15_t speed, foc_ab_t i
     l->theta32 = ((uint32_t)theta << 16) + (uint32_t)((int32_t)speed * FOC_THETA32_PER_SPEED);
     l->theta = theta;
     l->omega = speed;
-    foc_lpf_init(&l->speed, FOC_LUEN_SPEED_FILTER_K, speed);
+    foc_lpf_init(&l->speed, speed);
 }
 
 /* One axis of the observer: predicts the current from the last period's
@@ -158,7 +158,7 @@ void foc_luen_step(foc_luenberger_t *l, foc_ab_t v_last, foc_ab_t i_now)
 
     /* Angle for the next sample (the conversion to uint32_t wraps). */
     l->theta32 += (uint32_t)((int32_t)l->omega * FOC_THETA32_PER_SPEED);
-    (void)foc_lpf_step(&l->speed, l->omega);
+    (void)foc_lpf_step(&l->speed, l->omega, FOC_LUEN_SPEED_FILTER_K);
 
     /* The filtered speed (equal to the rotor's in any lock) gives the
      * direction, with hysteresis so transients near standstill do not flip

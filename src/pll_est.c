@@ -42,9 +42,9 @@ void foc_pll_reset(foc_pll_t *p, uint16_t theta, q15_t speed, foc_ab_t i_now)
     p->theta32 = ((uint32_t)theta << 16) + (uint32_t)((int32_t)speed * FOC_THETA32_PER_SPEED);
     p->theta = theta;
     p->omega = speed;
-    foc_lpf_init(&p->ed, FOC_PLL_EMF_FILTER_K, 0);
-    foc_lpf_init(&p->eq, FOC_PLL_EMF_FILTER_K, eq0);
-    foc_lpf_init(&p->speed, FOC_PLL_SPEED_FILTER_K, speed);
+    foc_lpf_init(&p->ed, 0);
+    foc_lpf_init(&p->eq, eq0);
+    foc_lpf_init(&p->speed, speed);
     p->i_prev = i_now;
     for (unsigned k = 0; k < FOC_PLL_AVG_N; k++) {
         p->e_ring[k] = e_ab;
@@ -128,8 +128,8 @@ void foc_pll_step(foc_pll_t *p, foc_ab_t v_last, foc_ab_t i_now)
     const uint16_t theta_e = (uint16_t)(p->theta - (uint16_t)back);
 
     const foc_dq_t e_dq = foc_park_q15(e, foc_sincos_q15(theta_e));
-    const q15_t edf = foc_lpf_step(&p->ed, e_dq.d);
-    const q15_t eqf = foc_lpf_step(&p->eq, e_dq.q);
+    const q15_t edf = foc_lpf_step(&p->ed, e_dq.d, FOC_PLL_EMF_FILTER_K);
+    const q15_t eqf = foc_lpf_step(&p->eq, e_dq.q, FOC_PLL_EMF_FILTER_K);
     /* eq. 2 (lead_of) and the slow step's flux tracking */
     const int32_t lead = lead_of(p, edf);
     const int32_t num = (int32_t)eqf + lead + p->flux_corr;
@@ -137,7 +137,7 @@ void foc_pll_step(foc_pll_t *p, foc_ab_t v_last, foc_ab_t i_now)
 
     /* Angle for the next sample; the conversion to uint32_t wraps. */
     p->theta32 += (uint32_t)((int32_t)p->omega * FOC_THETA32_PER_SPEED);
-    (void)foc_lpf_step(&p->speed, p->omega);
+    (void)foc_lpf_step(&p->speed, p->omega, FOC_PLL_SPEED_FILTER_K);
 }
 
 void foc_pll_track_reset(foc_pll_t *p)

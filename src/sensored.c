@@ -4,7 +4,7 @@
 void foc_sensored_reset(foc_sensored_t *s, uint16_t theta_sensor)
 {
     s->theta = theta_sensor;
-    foc_lpf_init(&s->speed, FOC_SPEED_FILTER_K, 0);
+    foc_lpf_init(&s->speed, 0);
 }
 
 void foc_sensored_step(foc_sensored_t *s, uint16_t theta_sensor)
@@ -16,5 +16,5 @@ void foc_sensored_step(foc_sensored_t *s, uint16_t theta_sensor)
     const q15_t speed = foc_mul_q15_shift(d_theta, FOC_DTHETA_TO_SPEED_MANT,
                                           FOC_DTHETA_TO_SPEED_SHIFT);
     s->theta = theta_sensor;
-    (void)foc_lpf_step(&s->speed, speed);
+    (void)foc_lpf_step(&s->speed, speed, FOC_SPEED_FILTER_K);
 }

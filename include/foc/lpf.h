@@ -2,7 +2,9 @@
  * First-order low-pass filter y(n) = y(n-1) + K (x(n) - y(n-1))
  * (AN1292 equation 7).
  *
- * K: Q15 in (0, 1]; K = 1 - exp(-Ts/tau) for a time constant tau.
+ * K: Q15 in (0, 1]; K = 1 - exp(-Ts/tau) for a time constant tau.  Every
+ * filter of the core has a constant K (config.h), passed to each step
+ * rather than kept beside the state: no RAM, and an immediate operand.
  * State: Q30 in an int32_t (15 extra fraction bits) so that a small K does
  * not stall the output short of the input.  |state| <= 2^30 and the update
  * lies between the old output and the input, so it cannot overflow.
@@ -13,13 +15,11 @@
 #include "foc/q15.h"
 
 typedef struct {
-    q15_t k;       /* filter constant, Q15 */
     int32_t state; /* output, Q30 */
 } foc_lpf_q15_t;
 
-static inline void foc_lpf_init(foc_lpf_q15_t *f, q15_t k, q15_t y0)
+static inline void foc_lpf_init(foc_lpf_q15_t *f, q15_t y0)
 {
-    f->k = k;
     f->state = (int32_t)y0 * (int32_t)32768;
 }
 
@@ -29,11 +29,11 @@ static inline q15_t foc_lpf_out(const foc_lpf_q15_t *f)
     return (q15_t)(f->state >> 15);
 }
 
-/* One update; returns the new output, Q15. */
-static inline q15_t foc_lpf_step(foc_lpf_q15_t *f, q15_t x)
+/* One update toward x with the constant k; returns the new output, Q15. */
+static inline q15_t foc_lpf_step(foc_lpf_q15_t *f, q15_t x, q15_t k)
 {
     const int32_t err = (int32_t)x - (int32_t)foc_lpf_out(f); /* 17 bits */
-    f->state += (int32_t)f->k * err; /* |k * err| < 2^31 */
+    f->state += (int32_t)k * err; /* |k * err| < 2^31 */
     return foc_lpf_out(f);
 }
 

@@ -14,9 +14,9 @@ static double measured_tau(q15_t k, q15_t y0, q15_t x)
     foc_lpf_q15_t f;
     const double target = y0 + (1.0 - exp(-1.0)) * (x - y0);
     double prev = y0;
-    foc_lpf_init(&f, k, y0);
+    foc_lpf_init(&f, y0);
     for (int n = 1; n < 1000000; n++) {
-        const double y = foc_lpf_step(&f, x);
+        const double y = foc_lpf_step(&f, x, k);
         if ((x > y0) ? (y >= target) : (y <= target)) {
             return n - 1 + (target - prev) / (y - prev);
         }
@@ -51,10 +51,10 @@ static void case_lpf_step_response(void)
 
             foc_lpf_q15_t f;
             double worst = 0.0;
-            foc_lpf_init(&f, ks[i], y0);
+            foc_lpf_init(&f, y0);
             for (int n = 1; n <= (int)(8.0 * tau); n++) {
                 const double want = x + (y0 - x) * pow(1.0 - kd, n);
-                const double err = fabs(foc_lpf_step(&f, x) - want);
+                const double err = fabs(foc_lpf_step(&f, x, ks[i]) - want);
                 worst = (err > worst) ? err : worst;
             }
             worst_lsb = fmax(worst_lsb, worst);
@@ -80,18 +80,18 @@ static void case_lpf_small_k_reaches_input(void)
         const long n = 40L * 32768L / ks[i] + 32768L / ks[i] + 10;
         for (size_t s = 0; s < sizeof steps / sizeof steps[0]; s++) {
             foc_lpf_q15_t f;
-            foc_lpf_init(&f, ks[i], steps[s][0]);
+            foc_lpf_init(&f, steps[s][0]);
             TK_CHECK(foc_lpf_out(&f) == steps[s][0], "init");
             long reached = -1;
             for (long k = 0; k < n && reached < 0; k++) {
-                if (foc_lpf_step(&f, steps[s][1]) == steps[s][1]) {
+                if (foc_lpf_step(&f, steps[s][1], ks[i]) == steps[s][1]) {
                     reached = k;
                 }
             }
             TK_CHECK(reached >= 0, "K=%d step %d->%d: stuck at %d", ks[i],
                      steps[s][0], steps[s][1], foc_lpf_out(&f));
             for (int k = 0; k < 1000; k++) {
-                foc_lpf_step(&f, steps[s][1]);
+                foc_lpf_step(&f, steps[s][1], ks[i]);
             }
             TK_CHECK(foc_lpf_out(&f) == steps[s][1], "K=%d: left %d for %d",
                      ks[i], steps[s][1], foc_lpf_out(&f));
