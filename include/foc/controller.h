@@ -153,6 +153,7 @@ typedef struct {
                             /* restart, 0 once done */
     uint8_t probe_first;    /* [fast] which sample of the probe's first */
                             /* short was kept (1, 2; 0: not yet) */
+    foc_protection_t protection; /* [slow] */
 
     foc_current_sense_t current_sense; /* [slow] starts a calibration in */
                                        /* IDLE, [fast] sums in CALIB */
@@ -169,7 +170,6 @@ typedef struct {
                                        /* in OPENLOOP only (the slow step */
                                        /* turns it in ALIGN only) */
     foc_speed_stats_t speed_stats;     /* [slow] */
-    foc_protection_t protection;       /* [slow] */
     foc_supervision_t sup;             /* [slow] */
 
     int8_t direction;       /* [slow] +1 / -1: direction of the present run */

@@ -27,11 +27,11 @@ typedef enum {
 } foc_fw_mode_t;
 
 typedef struct {
-    foc_fw_mode_t mode;
     foc_pi_q15_t pi;   /* voltage mode */
     q15_t id_ref;
     q15_t inv_kfi;     /* for the estimator (nominal outside table mode) */
     q15_t ls_scale;
+    foc_fw_mode_t mode;
 } foc_fw_t;
 
 /* Mode from userparms.h (FW_MODE); Id = 0, nominal estimator constants. */

@@ -28,16 +28,15 @@
 #include "foc/q15.h"
 
 typedef struct {
+    q31_t integ;       /* integrator, Q30 */
     q15_t kp;          /* proportional gain mantissa, Q15 */
-    uint8_t kp_shift;  /* proportional gain exponent, 0..15 */
-    uint8_t kp_rshift; /* 15 - kp_shift: the product's right shift */
     q15_t ki;          /* integral gain per execution, mantissa, Q15 */
-    uint8_t ki_shift;  /* integral gain exponent, 0..15 */
     q15_t kc;          /* anti-windup back-calculation gain, Q15 */
     q15_t out_min;     /* output limits, Q15, out_min <= out_max */
     q15_t out_max;
-    q31_t integ;       /* integrator, Q30 */
-} foc_pi_q15_t;
+    uint8_t kp_rshift; /* 15 - kp_shift: the product's right shift */
+    uint8_t ki_shift;  /* integral gain exponent, 0..15 */
+} foc_pi_q15_t;        /* 16 bytes: the 32-bit field first, no padding */
 
 /* Sets gains and limits, clears the integrator. */
 void foc_pi_init(foc_pi_q15_t *pi, q15_t kp, uint8_t kp_shift, q15_t ki,

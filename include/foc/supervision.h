@@ -28,11 +28,11 @@
 
 typedef struct {
     int32_t heat;            /* (I / I_rated)^2 filtered, Q20 (1.0 = rated) */
-    uint16_t follow_ticks;   /* slow ticks of the present window at the */
-                             /* limit and behind */
     int32_t follow_sum;      /* sum of the speed over the window */
     int32_t follow_last;     /* the previous window's mean, */
                              /* FOC_SUP_FOLLOW_NONE if none */
+    uint16_t follow_ticks;   /* slow ticks of the present window at the */
+                             /* limit and behind */
     uint8_t overspeed_ticks; /* consecutive slow ticks above the overspeed */
 } foc_supervision_t;
 

@@ -26,7 +26,7 @@ typedef struct {
 
 static ref_pi_t ref_from(const foc_pi_q15_t *pi, int anti_windup)
 {
-    const ref_pi_t r = { pi->kp * ldexp(1.0, pi->kp_shift) / 32768.0,
+    const ref_pi_t r = { pi->kp * ldexp(1.0, 15 - pi->kp_rshift) / 32768.0,
                          pi->ki * ldexp(1.0, pi->ki_shift) / 32768.0,
                          anti_windup ? pi->kc / 32768.0 : 0.0,
                          pi->out_min,
