@@ -56,8 +56,7 @@ static void post(foc_ctrl_t *c, foc_post_t what)
 static void take_post(foc_ctrl_t *c)
 {
     if (c->post == (uint8_t)FOC_POST_RESTART || c->post == (uint8_t)FOC_POST_CATCH) {
-        const foc_est_input_t in = { zero_ab, zero_ab, 0, c->samples.theta_sensor };
-        foc_est_reset(&c->est, &in, c->post_on_sensor);
+        foc_est_reset(&c->est, c->samples.theta_sensor, c->post_on_sensor);
         foc_cc_reset(&c->current_ctrl);
         c->v_dq = zero_dq;
         c->v_ab = zero_ab;
@@ -167,9 +166,8 @@ void foc_init(foc_ctrl_t *c)
     c->direction = 1;
     reset_run_state(c);
     outputs_off(c);
-    const foc_est_input_t rest = { zero_ab, zero_ab, 0, 0 };
     c->est.rs_ratio = FOC_RS_RATIO_ONE;
-    foc_est_reset(&c->est, &rest, 1);
+    foc_est_reset(&c->est, 0, 1);
     foc_est_track_reset(&c->est);
     enter(c, FOC_STATE_IDLE);
 }

@@ -11,10 +11,11 @@ int foc_est_select(foc_estimator_t *est, foc_est_kind_t kind)
     return 0;
 }
 
-/* The sensorless estimator restarted at `theta` and `speed`, with the
- * present current `i_now`. */
-static void restart_at(foc_estimator_t *est, uint16_t theta, q15_t speed, foc_ab_t i_now)
+/* The sensorless estimator restarted at `theta` and `speed` (every
+ * restart is made with no current in the windings). */
+static void restart_at(foc_estimator_t *est, uint16_t theta, q15_t speed)
 {
+    static const foc_ab_t i_now = { 0, 0 };
     switch (est->kind) {
     case FOC_EST_PLL:
         if (FOC_EST_BUILT(FOC_EST_PLL)) {
@@ -38,20 +39,19 @@ static void restart_at(foc_estimator_t *est, uint16_t theta, q15_t speed, foc_ab
     foc_est_publish(est);
 }
 
-void foc_est_reset(foc_estimator_t *est, const foc_est_input_t *in, uint8_t use_sensor)
+void foc_est_reset(foc_estimator_t *est, uint16_t theta_sensor, uint8_t use_sensor)
 {
     est->use_sensor = (uint8_t)(use_sensor != 0u || est->kind == FOC_EST_SENSORED);
-    foc_sensored_reset(&est->sensored, in->theta_sensor);
+    foc_sensored_reset(&est->sensored, theta_sensor);
     if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == FOC_EST_PLL) {
         foc_pll_init(&est->u.pll);
     }
-    restart_at(est, 0, 0, in->i_ab);
+    restart_at(est, 0, 0);
 }
 
 void foc_est_preset(foc_estimator_t *est, uint16_t theta, q15_t speed)
 {
-    static const foc_ab_t no_current = { 0, 0 };
-    restart_at(est, theta, speed, no_current);
+    restart_at(est, theta, speed);
 }
 
 void foc_est_set_rs(foc_estimator_t *est, q15_t ratio_q14)

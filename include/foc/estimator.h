@@ -57,9 +57,10 @@ typedef struct {
  * FOC_ALL_ESTIMATORS defined (the host's) contains all of them. */
 int foc_est_select(foc_estimator_t *est, foc_est_kind_t kind);
 
-/* Restarts the estimator from angle 0 and standstill, as after power-up
- * with the rotor position unknown; `use_sensor` chooses the source. */
-void foc_est_reset(foc_estimator_t *est, const foc_est_input_t *in, uint8_t use_sensor);
+/* Restarts the estimator from angle 0 and standstill with no current in
+ * the windings, as after power-up with the rotor position unknown; the
+ * sensor's filter from `theta_sensor`; `use_sensor` chooses the source. */
+void foc_est_reset(foc_estimator_t *est, uint16_t theta_sensor, uint8_t use_sensor);
 
 /* The sensorless estimator restarted on a rotor whose angle and speed are
  * known (the flying start's probe), with no current in the windings. */
