@@ -238,7 +238,7 @@ static void current_loop(foc_ctrl_t *c, uint8_t forced)
         c->v_dq.q = foc_cc_q_forced(&c->current_ctrl, forced_vq(c->startup.speed, c->i_ref_slewed.d), c->i_dq.q,
                                     c->forced_iq_max, c->v_dq.d, v_max, c->est.speed);
     } else {
-        foc_cc_emf_feedforward(&c->current_ctrl, foc_est_ff_speed(&c->est), FOC_EMF_PER_SPEED_MANT,
+        foc_cc_emf_feedforward(&c->current_ctrl, c->est.speed, FOC_EMF_PER_SPEED_MANT,
                                FOC_EMF_PER_SPEED_SHIFT, FOC_RS_ILIM_V);
         c->v_dq.q = foc_cc_q_axis(&c->current_ctrl, c->i_ref_slewed.q, c->i_dq.q, c->v_dq.d, v_max);
     }

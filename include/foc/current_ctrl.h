@@ -110,10 +110,9 @@ static inline q15_t foc_cc_q_forced(foc_current_ctrl_t *cc, q15_t vq, q15_t iq_m
     return vq;
 }
 
-/* The feedforward's speed follows the estimate (foc_est_ff_speed: the
- * PLL's before its output filter) through a first-order filter of
- * 2^FOC_CC_FF_FILTER_BITS periods (0.4 ms at 20 kHz): fast against a jam,
- * slow against the estimate's per-period noise. */
+/* The feedforward's speed follows the estimate through a first-order
+ * filter of 2^FOC_CC_FF_FILTER_BITS periods (0.4 ms at 20 kHz): fast
+ * against a jam, slow against the estimate's per-period noise. */
 #define FOC_CC_FF_FILTER_BITS 3
 
 /* Back-EMF feedforward of a slowing rotor, once per period before the q

@@ -141,21 +141,6 @@ static inline void foc_est_step(foc_estimator_t *est, const foc_est_input_t *in)
     foc_est_publish(est);
 }
 
-/* The speed for the current loop's back-EMF feedforward: the PLL's
- * before its 1 ms output filter (a jammed rotor loses 1400 rpm in 2 ms;
- * the filtered speed, 500 rpm behind, left the q integrator that much EMF
- * too high: tests/torture/regress/18).  The others' as they publish it
- * (the Luenberger observer's unfiltered speed, noisy at the hand-over,
- * dropped the integrator there: 1.05-1.21 x the current limit on the
- * Shinano and Hurst motors). */
-static inline q15_t foc_est_ff_speed(const foc_estimator_t *est)
-{
-    if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == FOC_EST_PLL && est->use_sensor == 0u) {
-        return est->u.pll.omega;
-    }
-    return est->speed;
-}
-
 /* Slow step: the estimator's slow share (the PLL's flux tracking), in
  * every state whose fast step runs it; its reset when a restart is posted.
  * Estimators without one ignore both. */
