@@ -15,21 +15,21 @@ int foc_est_select(foc_estimator_t *est, foc_est_kind_t kind)
  * restart is made with no current in the windings). */
 static void restart_at(foc_estimator_t *est, uint16_t theta, q15_t speed)
 {
-    static const foc_ab_t i_now = { 0, 0 };
+    static const foc_ab_t no_current = { 0, 0 };
     switch (est->kind) {
     case FOC_EST_PLL:
         if (FOC_EST_BUILT(FOC_EST_PLL)) {
-            foc_pll_reset(&est->u.pll, theta, speed, i_now);
+            foc_pll_reset(&est->u.pll, theta, speed, no_current);
         }
         break;
     case FOC_EST_FLUX:
         if (FOC_EST_BUILT(FOC_EST_FLUX)) {
-            foc_flux_reset(&est->u.flux, theta, speed, i_now);
+            foc_flux_reset(&est->u.flux, theta, speed, no_current);
         }
         break;
     case FOC_EST_LUENBERGER:
         if (FOC_EST_BUILT(FOC_EST_LUENBERGER)) {
-            foc_luen_reset(&est->u.luenberger, theta, speed, i_now);
+            foc_luen_reset(&est->u.luenberger, theta, speed, no_current);
         }
         break;
     default:

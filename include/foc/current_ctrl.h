@@ -99,7 +99,7 @@ static inline q15_t foc_cc_q_forced(foc_current_ctrl_t *cc, q15_t vq, q15_t iq_m
     } else {
         cc->pull_integ -= cc->pull_integ >> FOC_CC_PULL_LEAK_BITS;
     }
-    const q15_t pull = foc_add_q15(foc_mul_q15_shift(excess, cc->pi_q.kp, (uint8_t)(15u - cc->pi_q.kp_rshift)),
+    const q15_t pull = foc_add_q15(foc_sat_q15(foc_pi_kp_term(&cc->pi_q, excess)),
                                    (q15_t)(cc->pull_integ >> 15));
     vq = foc_add_q15(vq, pull);
     vq = (vq > v_max) ? v_max : (vq < -v_max) ? (q15_t)-v_max : vq;

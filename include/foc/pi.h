@@ -92,13 +92,18 @@ static inline void foc_pi_preset(foc_pi_q15_t *pi, q15_t y0)
     pi->integ = FOC_PI_Q15_TO_Q30(foc_pi_clamp_out(pi, y0));
 }
 
-/* I + Kp e, the unsaturated output (Q15 held in 32 bits): the Q30 product
- * shifted right by 15 - kp_shift, rounded; |Kp e| <= 2^30. */
-static inline int32_t foc_pi_unsat(const foc_pi_q15_t *pi, q15_t e)
+/* Kp e, Q15 held in 32 bits (not saturated): the Q30 product shifted
+ * right by 15 - kp_shift, rounded; |Kp e| <= 2^30. */
+static inline int32_t foc_pi_kp_term(const foc_pi_q15_t *pi, q15_t e)
 {
     const int32_t half = ((int32_t)1 << pi->kp_rshift) >> 1; /* 0 for no shift */
-    const int32_t prop = ((int32_t)pi->kp * (int32_t)e + half) >> pi->kp_rshift;
-    return (pi->integ >> 15) + prop;
+    return ((int32_t)pi->kp * (int32_t)e + half) >> pi->kp_rshift;
+}
+
+/* I + Kp e, the unsaturated output (Q15 held in 32 bits). */
+static inline int32_t foc_pi_unsat(const foc_pi_q15_t *pi, q15_t e)
+{
+    return (pi->integ >> 15) + foc_pi_kp_term(pi, e);
 }
 
 /* Ki e, Q30, limited to +-2^30 (a step beyond the whole range ends at the
