@@ -192,13 +192,17 @@ static void current_loop(foc_ctrl_t *c, uint8_t forced)
      * by FOC_IREF_STEP_BITS per period on the estimated angle: a torque
      * reversal spread over a slow tick does not make the current loop
      * overshoot. */
+    foc_dq_t step; /* the references' steps, for the current PIs */
+    step.d = (q15_t)FOC_SAT_BITS((int32_t)c->i_ref.d - c->i_ref_slewed.d, FOC_IREF_STEP_BITS);
     if (forced != 0u) {
-        c->i_ref_slewed = c->i_ref; /* the start-up ramps its own */
+        /* the start-up ramps its own (the PIs take its steps within the
+         * slew's); the forced q axis is voltage-driven */
+        step.q = 0;
+        c->i_ref_slewed = c->i_ref;
     } else {
-        c->i_ref_slewed.d = (q15_t)(c->i_ref_slewed.d +
-                                    FOC_SAT_BITS((int32_t)c->i_ref.d - c->i_ref_slewed.d, FOC_IREF_STEP_BITS));
-        c->i_ref_slewed.q = (q15_t)(c->i_ref_slewed.q +
-                                    FOC_SAT_BITS((int32_t)c->i_ref.q - c->i_ref_slewed.q, FOC_IREF_STEP_BITS));
+        step.q = (q15_t)FOC_SAT_BITS((int32_t)c->i_ref.q - c->i_ref_slewed.q, FOC_IREF_STEP_BITS);
+        c->i_ref_slewed.d = (q15_t)(c->i_ref_slewed.d + step.d);
+        c->i_ref_slewed.q = (q15_t)(c->i_ref_slewed.q + step.q);
     }
     const foc_ab_t i_last = c->i_ab;
     c->i_ab = foc_cs_alphabeta(&c->current_sense, &c->samples, c->i_ab);
@@ -232,7 +236,7 @@ static void current_loop(foc_ctrl_t *c, uint8_t forced)
     c->i_dq = foc_park_q15(c->i_ab, sc);
     /* d first, with the whole voltage: AN1292's d-axis priority */
     const q15_t v_max = c->bus.v_max;
-    c->v_dq.d = foc_cc_d_axis(&c->current_ctrl, c->i_ref_slewed.d, c->i_dq.d, v_max);
+    c->v_dq.d = foc_cc_d_axis(&c->current_ctrl, c->i_ref_slewed.d, c->i_dq.d, v_max, step.d);
     if (forced != 0u) {
         /* the q swing current may use what the d current leaves */
         c->v_dq.q = foc_cc_q_forced(&c->current_ctrl, forced_vq(c->startup.speed, c->i_ref_slewed.d), c->i_dq.q,
@@ -240,7 +244,7 @@ static void current_loop(foc_ctrl_t *c, uint8_t forced)
     } else {
         foc_cc_emf_feedforward(&c->current_ctrl, c->est.speed, FOC_EMF_PER_SPEED_MANT,
                                FOC_EMF_PER_SPEED_SHIFT, FOC_RS_ILIM_V);
-        c->v_dq.q = foc_cc_q_axis(&c->current_ctrl, c->i_ref_slewed.q, c->i_dq.q, c->v_dq.d, v_max);
+        c->v_dq.q = foc_cc_q_axis(&c->current_ctrl, c->i_ref_slewed.q, c->i_dq.q, c->v_dq.d, v_max, step.q);
     }
 
     const foc_sincos_t sc_v = foc_sincos_sum(sc, c->advance_sc);

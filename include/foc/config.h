@@ -79,14 +79,42 @@
 #define FOC_GAIN_MANT(x) Q15((x) / (double)(1L << FOC_GAIN_SHIFT(x)))
 
 /* --------------------------------------------------- current control -- */
+/* The current PI of userparms.h (Kp = Lq wc, Ki = Kp z: a first-order
+ * loop of bandwidth wc when its zero z lies on the winding pole Rs / L)
+ * rejects a voltage disturbance (a back-EMF that changes with a jam or a
+ * load step, a bus step) only at the rate z: 2.2 ms on the servo of the
+ * torture campaign.  Two degrees of freedom move that pole to `a` =
+ * max(z, CURRENT_DIST_RATIO wc) and the other to wc + z - a, keeping Kp
+ * (the loop's robustness to an inductance off by half): the integral gain
+ * a (Kp - Kref), Kref = Lq (a - z), and the reference's proportional gain
+ * Kp - Kref, whose zero cancels the pole at a (the reference's response
+ * stays first order, bandwidth wc + z - a): the integrator carries -Kref x
+ * each step of the reference (current_ctrl.h).  With a = z the PI is the
+ * plain one. */
+#ifndef CURRENT_DIST_RATIO
+#define CURRENT_DIST_RATIO 0.5
+#endif
+#define FOC_CURRENT_ZERO_RAD_S (CURRENT_KI_V_PER_AS / CURRENT_KP_V_PER_A)
+#define FOC_CURRENT_DIST_RAD_S                                                 \
+    ((CURRENT_DIST_RATIO * CURRENT_KP_V_PER_A / MOTOR_LQ_H > FOC_CURRENT_ZERO_RAD_S) \
+         ? CURRENT_DIST_RATIO * CURRENT_KP_V_PER_A / MOTOR_LQ_H                \
+         : FOC_CURRENT_ZERO_RAD_S)
+#define FOC_CURRENT_KREF_V_PER_A (MOTOR_LQ_H * (FOC_CURRENT_DIST_RAD_S - FOC_CURRENT_ZERO_RAD_S))
 /* PI gains in per-unit: volts per ampere x I_BASE / V_BASE; Ki per PWM
  * period. */
 #define FOC_CURRENT_KP_PU (CURRENT_KP_V_PER_A * FOC_I_BASE_A / FOC_V_BASE_V)
 #define FOC_CURRENT_KI_PU                                                      \
-    (CURRENT_KI_V_PER_AS * FOC_TS_S * FOC_I_BASE_A / FOC_V_BASE_V)
+    (((FOC_CURRENT_KREF_V_PER_A > 0.0)                                         \
+          ? FOC_CURRENT_DIST_RAD_S * (CURRENT_KP_V_PER_A - FOC_CURRENT_KREF_V_PER_A) \
+          : CURRENT_KI_V_PER_AS) *                                             \
+     FOC_TS_S * FOC_I_BASE_A / FOC_V_BASE_V)
 #define FOC_CURRENT_KP_MANT FOC_GAIN_MANT(FOC_CURRENT_KP_PU)
 #define FOC_CURRENT_KP_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_CURRENT_KP_PU))
 #define FOC_CURRENT_KI Q15(FOC_CURRENT_KI_PU)
+/* The reference's step gain Lq (a - z), per unit, and as the Q30 integrator
+ * change per Q15 step of the reference. */
+#define FOC_CURRENT_KREF_PU (FOC_CURRENT_KREF_V_PER_A * FOC_I_BASE_A / FOC_V_BASE_V)
+#define FOC_CURRENT_KREF_Q30 ((int32_t)(FOC_CURRENT_KREF_PU * 32768.0 + 0.5))
 /* Back-calculation gain: Ki/Kp (the PI's own zero), the usual choice. */
 #define FOC_CURRENT_KC Q15(FOC_CURRENT_KI_PU / FOC_CURRENT_KP_PU)
 /* The current references stay CURRENT_REF_MARGIN below CURRENT_LIMIT_A:
@@ -566,6 +594,19 @@ FOC_STATIC_ASSERT(FOC_DTHETA_AT_BASE < 16384.0,
                   "(more than 90 electrical degrees per PWM period)");
 FOC_STATIC_ASSERT(FOC_CURRENT_KP_PU < 32768.0,
                   "CURRENT_KP_V_PER_A overflows its per-unit gain format");
+FOC_STATIC_ASSERT(CURRENT_DIST_RATIO >= 0.0 && CURRENT_DIST_RATIO <= 1.0,
+                  "CURRENT_DIST_RATIO must be in [0, 1] (the disturbance rejection "
+                  "as a fraction of the current loop's bandwidth)");
+FOC_STATIC_ASSERT(FOC_CURRENT_KREF_PU * 32768.0 * (double)(1L << (FOC_IREF_STEP_BITS - 1)) <
+                      268435456.0,
+                  "CURRENT_DIST_RATIO: the reference's step gain overflows the current PI's "
+                  "integrator");
+FOC_STATIC_ASSERT(FOC_CURRENT_KI_PU < 0.5,
+                  "CURRENT_KI_V_PER_AS (with CURRENT_DIST_RATIO) too high: Ki per PWM "
+                  "period must be < 0.5 pu");
+FOC_STATIC_ASSERT(FOC_CURRENT_KREF_V_PER_A < CURRENT_KP_V_PER_A,
+                  "CURRENT_DIST_RATIO too high for CURRENT_KP_V_PER_A and "
+                  "CURRENT_KI_V_PER_AS: the reference's gain must stay positive");
 FOC_STATIC_ASSERT(FOC_CURRENT_KI_PU < 1.0,
                   "CURRENT_KI_V_PER_AS too high: Ki per PWM period must be < 1 pu");
 FOC_STATIC_ASSERT(FOC_CURRENT_KI_PU / FOC_CURRENT_KP_PU < 1.0,

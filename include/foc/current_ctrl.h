@@ -10,6 +10,7 @@
 #ifndef FOC_CURRENT_CTRL_H
 #define FOC_CURRENT_CTRL_H
 
+#include "foc/config.h"
 #include "foc/pi.h"
 #include "foc/sqrt.h"
 #include "foc/transforms.h"
@@ -50,10 +51,19 @@ static inline uint8_t foc_cc_outside(q15_t v_max, q15_t vd, q15_t vq)
     return (uint8_t)((int32_t)vd * vd + (int32_t)vq * vq > (int32_t)v_max * v_max);
 }
 
-/* The d axis, first: its PI limited to +-Vmax. */
+/* Both axes: the reference's proportional gain is Kp - Kref, the
+ * feedback's Kp (config.h): the integrator takes -Kref x the reference's
+ * step of this period (`step`, Q15, |step| <= 2^(FOC_IREF_STEP_BITS - 1)),
+ * so that at a steady reference it is the voltage (presets and the
+ * feedforward keep their meaning).  The product is within 2^28 and the
+ * step's Ki e within 2^29 (config.h): an integrator within 2^30 + 2^15
+ * before cannot overflow before the PI's step clamps it.
+ *
+ * The d axis, first: its PI limited to +-Vmax. */
 static inline q15_t foc_cc_d_axis(foc_current_ctrl_t *cc, q15_t id_ref, q15_t id_meas,
-                                  q15_t v_max)
+                                  q15_t v_max, q15_t step)
 {
+    cc->pi_d.integ -= (int32_t)step * FOC_CURRENT_KREF_Q30;
     foc_pi_limit_next(&cc->pi_d, v_max);
     return foc_pi_step(&cc->pi_d, foc_sub_q15(id_ref, id_meas));
 }
@@ -62,8 +72,9 @@ static inline q15_t foc_cc_d_axis(foc_current_ctrl_t *cc, q15_t id_ref, q15_t id
  * q current error.  Its limit is +-Vmax while its output lies inside the
  * circle; the root is taken only when it does not. */
 static inline q15_t foc_cc_q_axis(foc_current_ctrl_t *cc, q15_t iq_ref, q15_t iq_meas,
-                                  q15_t vd, q15_t v_max)
+                                  q15_t vd, q15_t v_max, q15_t step)
 {
+    cc->pi_q.integ -= (int32_t)step * FOC_CURRENT_KREF_Q30;
     const q15_t e_q = foc_sub_q15(iq_ref, iq_meas);
     const int32_t u_q = foc_pi_unsat(&cc->pi_q, e_q);
     const q15_t candidate = (u_q > v_max) ? v_max : (u_q < -v_max) ? (q15_t)-v_max : (q15_t)u_q;

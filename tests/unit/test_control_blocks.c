@@ -188,8 +188,8 @@ static void case_voltage_circle(void)
         const foc_dq_t meas = { 0, 0 };
         const q15_t vmax = (q15_t)(rand() % 32768);
         foc_dq_t v;
-        v.d = foc_cc_d_axis(&cc, ref.d, meas.d, vmax);
-        v.q = foc_cc_q_axis(&cc, ref.q, meas.q, v.d, vmax);
+        v.d = foc_cc_d_axis(&cc, ref.d, meas.d, vmax, 0);
+        v.q = foc_cc_q_axis(&cc, ref.q, meas.q, v.d, vmax, 0);
         const int32_t mag2 = (int32_t)v.d * v.d + (int32_t)v.q * v.q;
         const int32_t over = (int32_t)sqrt((double)mag2) - vmax;
         worst = over > worst ? over : worst;
@@ -258,7 +258,7 @@ static double q_axis_worst_error(speed_at_fn true_speed, speed_at_fn est_speed, 
             foc_cc_emf_feedforward(&cc, est_speed(k), FOC_EMF_PER_SPEED_MANT, FOC_EMF_PER_SPEED_SHIFT,
                                    FOC_RS_ILIM_V);
         }
-        const q15_t vq = foc_cc_q_axis(&cc, iq_ref, FOC_I_Q15(iq), 0, Q15(0.95));
+        const q15_t vq = foc_cc_q_axis(&cc, iq_ref, FOC_I_Q15(iq), 0, Q15(0.95), 0);
         iq += FOC_TS_S / MOTOR_LQ_H *
               (vq_applied * v_base / 32768.0 - emf_per_q15 * true_speed(k) - MOTOR_RS_OHM * iq);
         vq_applied = vq;
@@ -310,6 +310,56 @@ static void case_emf_feedforward(void)
     const double glitch = q_axis_worst_error(at_rest, glitch_speed, 0.0, n, 1);
     TK_CHECK(glitch <= CURRENT_LIMIT_A, "estimate glitch: %.3f A (limit %.3f A)", glitch,
              CURRENT_LIMIT_A);
+}
+
+/* The current PI's two degrees of freedom (config.h): on the d axis of
+ * the userparms.h winding (the voltage acting one period late), a
+ * reference step of half the limit rises without overshoot, and a back-EMF
+ * falling at a steady rate (a jam, no feedforward) leaves at most 3/4 of
+ * the plain PI's error r / CURRENT_KI_V_PER_AS.  The reference is slewed
+ * as the fast step slews it. */
+static void case_current_two_dof(void)
+{
+    const double v_base = FOC_V_BASE_V;
+    const double i_base = FOC_I_BASE_A;
+    const q15_t v_max = Q15(0.95);
+    /* the reference step */
+    foc_current_ctrl_t cc;
+    foc_cc_init(&cc);
+    const double step_a = 0.5 * CURRENT_LIMIT_A;
+    const q15_t ref = FOC_I_Q15(step_a);
+    double id = 0.0;
+    q15_t vd_applied = 0;
+    double peak = 0.0;
+    q15_t slewed = 0; /* the reference as the fast step slews it */
+    for (int k = 0; k < (int)(0.01 / FOC_TS_S); k++) {
+        const q15_t step = (q15_t)FOC_SAT_BITS((int32_t)ref - slewed, FOC_IREF_STEP_BITS);
+        slewed = (q15_t)(slewed + step);
+        const q15_t vd = foc_cc_d_axis(&cc, slewed, (q15_t)lround(id / i_base * 32768.0), v_max, step);
+        id += FOC_TS_S / MOTOR_LQ_H * (vd_applied * v_base / 32768.0 - MOTOR_RS_OHM * id);
+        vd_applied = vd;
+        peak = fmax(peak, id);
+    }
+    TK_CHECK(peak <= 1.02 * step_a, "step of %.3f A: peak %.3f A", step_a, peak);
+    TK_CHECK(fabs(id - step_a) <= 0.005 * step_a, "step of %.3f A: settles at %.3f A", step_a, id);
+
+    /* the falling back-EMF: from half the voltage base to zero in 5 ms */
+    foc_cc_init(&cc);
+    const double rate = 0.5 * v_base / 0.005; /* V/s */
+    double emf = 0.5 * v_base;
+    const foc_dq_t v0 = { (q15_t)lround((emf + MOTOR_RS_OHM * step_a) / v_base * 32768.0), 0 };
+    foc_cc_preset(&cc, v0, 0);
+    id = step_a;
+    vd_applied = v0.d;
+    for (int k = 0; k < (int)(0.005 / FOC_TS_S); k++) {
+        const q15_t vd = foc_cc_d_axis(&cc, ref, (q15_t)lround(id / i_base * 32768.0), v_max, 0);
+        id += FOC_TS_S / MOTOR_LQ_H * (vd_applied * v_base / 32768.0 - emf - MOTOR_RS_OHM * id);
+        vd_applied = vd;
+        emf -= rate * FOC_TS_S;
+    }
+    const double plain = rate / CURRENT_KI_V_PER_AS;
+    TK_CHECK(fabs(id - step_a) <= 0.75 * plain, "EMF falling at %.0f V/s: %.4f A off (plain PI %.4f A)",
+             rate, fabs(id - step_a), plain);
 }
 
 /* |Iq| <= sqrt(Ilim^2 - Id^2), 0 when Id takes it all. */
@@ -438,4 +488,5 @@ TK_CASES(TK_CASE(case_deadtime_error), TK_CASE(case_current_sense), TK_CASE(case
          TK_CASE(case_protection_brake_resistor), TK_CASE(case_startup_sequence),
          TK_CASE(case_bus_compensation), TK_CASE(case_voltage_circle),
          TK_CASE(case_current_circle), TK_CASE(case_forced_q_holds_band),
-         TK_CASE(case_emf_feedforward), TK_CASE(case_follow_check))
+         TK_CASE(case_emf_feedforward), TK_CASE(case_follow_check),
+         TK_CASE(case_current_two_dof))
