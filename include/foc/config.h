@@ -82,8 +82,8 @@
 /* The current PI of userparms.h (Kp = Lq wc, Ki = Kp z: a first-order
  * loop of bandwidth wc when its zero z lies on the winding pole Rs / L)
  * rejects a voltage disturbance (a back-EMF that changes with a jam or a
- * load step, a bus step) only at the rate z: 2.2 ms on the servo of the
- * torture campaign.  Two degrees of freedom move that pole to `a` =
+ * load step, a bus step) only at the rate z (1 / z = 2.0 ms on the servo
+ * of the torture campaign).  Two degrees of freedom move that pole to `a` =
  * max(z, CURRENT_DIST_RATIO wc) and the other to wc + z - a, keeping Kp
  * (the loop's robustness to an inductance off by half): the integral gain
  * a (Kp - Kref), Kref = Lq (a - z), and the reference's proportional gain
