@@ -80,6 +80,7 @@ DEFAULT_SPEED_BW = 600.0            # rad/s, unless the motor needs less:
 L_ERROR_ENVELOPE = 0.5              # |plant L / parameter - 1| the estimators must bear
 SPEED_LAG_PHASE = 0.3               # rad the fake speed of an L error may cost the speed loop
 SPEED_BW_MIN = 150.0                # rad/s: slower, the follow checks and the FW lose the loop
+CURRENT_DIST_RATIO = 0.5            # config.h's default: the current PIs' disturbance pole / wc
 DEFAULT_FW_BW = 160.0               # rad/s
 DEFAULT_OBSERVER_BW = 6661.5        # rad/s: ST's K1, K2 on the Hurst075
 FW_PI_TIME_S = 0.625e-3             # Kp / Ki of the field-weakening PI
@@ -701,7 +702,13 @@ def derive(e):
     d.update(ib=ib, vb=vb, web=web, psi=psi)
     d["dtheta"] = 65536.0 * web / (2.0 * math.pi) * ts
     d["cur_kp"] = e["CURRENT_KP_V_PER_A"] * ib / vb
-    d["cur_ki"] = e["CURRENT_KI_V_PER_AS"] * ts * ib / vb
+    # the current PIs' integral gain as config.h makes it (two degrees of
+    # freedom: the disturbance pole at max(Ki/Kp, CURRENT_DIST_RATIO wc))
+    kp, ki = e["CURRENT_KP_V_PER_A"], e["CURRENT_KI_V_PER_AS"]
+    dist = max(ki / kp, CURRENT_DIST_RATIO * kp / lq)
+    kref = lq * (dist - ki / kp)
+    d["cur_kref"] = kref
+    d["cur_ki"] = (dist * (kp - kref) if kref > 0.0 else ki) * ts * ib / vb
     d["spd_kp"] = e["SPEED_KP_A_PER_RPM"] * e["SPEED_BASE_RPM"] / ib
     d["spd_ki"] = e["SPEED_KI_A_PER_RPM_S"] * d["t_slow"] * e["SPEED_BASE_RPM"] / ib
     d["ramp"] = e["SPEED_RAMP_RPM_PER_S"] * d["t_slow"] / e["SPEED_BASE_RPM"]
@@ -822,8 +829,9 @@ def checks(e, d):
         # loops
         (d["cur_kp"] < 32768.0, "CURRENT_KP_V_PER_A overflows its per-unit format: the "
          "inductance is too high for the board's voltage and current bases (%s)" % ls_note),
-        (d["cur_ki"] < 1.0, "CURRENT_KI_V_PER_AS too high: Ki per PWM period must be < 1 per "
-         "unit (rs_ohm too high for the board, or the current bandwidth)"),
+        (e["CURRENT_KI_V_PER_AS"] * d["ts"] * d["ib"] / d["vb"] < 1.0,
+         "CURRENT_KI_V_PER_AS too high: Ki per PWM period must be < 1 per unit (rs_ohm too "
+         "high for the board, or the current bandwidth)"),
         (d["cur_ki"] / d["cur_kp"] < 1.0, "the winding time constant Ls/Rs is shorter than a "
          "PWM period: the current PI's anti-windup gain overflows (%s)" % ls_note),
         (d["spd_kp"] < 32768.0 and d["spd_ki"] < 32768.0,
@@ -862,6 +870,13 @@ def checks(e, d):
          "(or change --observer-bw-rad-s)" % (e["LUENBERGER_K2_V_PER_AS"], emf_base)),
         (d["C6"] < 32767.0, "the speed base x pole pairs is too high for pwm_frequency_hz "
          "(Luenberger observer: over 0.5 rad per PWM period)"),
+        # config.h's current PIs (two degrees of freedom, CURRENT_DIST_RATIO)
+        (d["cur_ki"] < 0.5, "the current PIs' integral gain, with config.h's "
+         "CURRENT_DIST_RATIO (%g), exceeds 0.5 per unit per PWM period: the inductance or "
+         "rs_ohm too high for the board, or the current bandwidth (%s)"
+         % (CURRENT_DIST_RATIO, ls_note)),
+        (d["cur_kref"] < e["CURRENT_KP_V_PER_A"], "CURRENT_DIST_RATIO too high for the current "
+         "PI's gains: the reference's gain must stay positive"),
         (-1.0 < d["det"] < 1.0 and 0.0 < d["k2tb"] < 2.0 * (1.0 + d["det"]),
          "the Luenberger observer's error dynamics are unstable at pwm_frequency_hz "
          "(lower --observer-bw-rad-s)"),

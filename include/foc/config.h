@@ -607,8 +607,6 @@ FOC_STATIC_ASSERT(FOC_CURRENT_KI_PU < 0.5,
 FOC_STATIC_ASSERT(FOC_CURRENT_KREF_V_PER_A < CURRENT_KP_V_PER_A,
                   "CURRENT_DIST_RATIO too high for CURRENT_KP_V_PER_A and "
                   "CURRENT_KI_V_PER_AS: the reference's gain must stay positive");
-FOC_STATIC_ASSERT(FOC_CURRENT_KI_PU < 1.0,
-                  "CURRENT_KI_V_PER_AS too high: Ki per PWM period must be < 1 pu");
 FOC_STATIC_ASSERT(FOC_CURRENT_KI_PU / FOC_CURRENT_KP_PU < 1.0,
                   "CURRENT_KI_V_PER_AS / CURRENT_KP_V_PER_A too high for the "
                   "anti-windup gain");
