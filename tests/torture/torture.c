@@ -10,6 +10,8 @@
  *        one random run (the seed decides everything but the motor); prints
  *        one result line "key=value ..." (tools/torture.py collects them)
  *   torture_<motor> --scenario FILE.scn [--estimator E] [--trace]
+ *        (--trace: a CSV row every millisecond; --trace-every N: every N
+ *        PWM periods)
  *        a written scenario (tests/torture/regress); `#!` lines in it set the
  *        run's options and expectations:
  *          #! estimator pll|luenberger|flux   (several: one run each)
@@ -689,7 +691,7 @@ static int run_spec(const spec_t *sp, inject_t inj, int trace, result_t *res)
     long k = 0;
     while (sim_step(&sim, &row)) {
         oracle_step(&res->o, &sim, &row, inj, scn.end_s);
-        if (trace && k % (long)(PWM_FREQUENCY_HZ / 1000.0) == 0) {
+        if (trace > 0 && k % trace == 0) {
             char buf[512];
             sim_csv_row(&row, buf, sizeof buf);
             printf("%s\n", buf);
@@ -962,13 +964,15 @@ int main(int argc, char **argv)
                 if (strcmp(argv[i], est_names[k]) == 0) est = k;
             }
         } else if (strcmp(argv[i], "--trace") == 0) {
-            trace = 1;
+            trace = (int)(PWM_FREQUENCY_HZ / 1000.0);
+        } else if (strcmp(argv[i], "--trace-every") == 0 && i + 1 < argc) {
+            trace = (int)strtol(argv[++i], NULL, 10);
         } else if (strcmp(argv[i], "--selftest") == 0) {
             return selftest();
         } else {
             fprintf(stderr,
                     "usage: %s --seed N [--dump FILE.scn] [--trace] | --scenario FILE "
-                    "[--estimator pll|luenberger|flux] [--trace] | --selftest\n",
+                    "[--estimator pll|luenberger|flux] [--trace | --trace-every N] | --selftest\n",
                     argv[0]);
             return 2;
         }
