@@ -121,6 +121,7 @@ static void reset_run_state(foc_ctrl_t *c)
     c->reversal_speed = 0;
     c->unreliable_ticks = 0;
     c->emf_low_ticks = 0;
+    c->lprobe_req = 0;
     foc_sup_run_reset(&c->sup);
 }
 
@@ -151,7 +152,7 @@ void foc_init(foc_ctrl_t *c)
     foc_sup_init(&c->sup);
     foc_speed_stats_reset(&c->speed_stats);
     foc_startup_begin(&c->startup, 1);
-    c->est.kind = FOC_ESTIMATOR;
+    c->est.kind = (uint8_t)FOC_ESTIMATOR;
     c->samples.theta_sensor = 0;
     c->scope = NULL;
     c->forced_iq_max = FOC_CURRENT_LIMIT;
@@ -167,6 +168,8 @@ void foc_init(foc_ctrl_t *c)
     reset_run_state(c);
     outputs_off(c);
     c->est.rs_ratio = FOC_RS_RATIO_ONE;
+    c->est.ls_ratio = FOC_LS_RATIO_ONE;
+    c->lprobe = 0;
     foc_est_reset(&c->est, 0, 1);
     foc_est_track_reset(&c->est);
     enter(c, FOC_STATE_IDLE);
@@ -178,6 +181,30 @@ static q15_t forced_vq(q15_t speed, q15_t id)
     const q15_t emf = foc_mul_q15_shift(speed, FOC_EMF_PER_SPEED_MANT, FOC_EMF_PER_SPEED_SHIFT);
     const q15_t coupling = foc_mul_q15_shift(foc_mul_q15(speed, id), FOC_XD_MANT, FOC_XD_SHIFT);
     return foc_add_q15(emf, coupling);
+}
+
+/* The alignment's inductance probe, period `c->lprobe` of
+ * FOC_LPROBE_PERIODS (config.h), in place of the d PI's output: the
+ * voltage that holds the alignment current (the PI's integrator in the
+ * first period: its output carries the proportional part of any ripple,
+ * volts on a winding whose L is half the parameter's) stepped down by
+ * FOC_LPROBE_DV, then up, then back; the lowest d current kept for
+ * identify_ls.  The PI is held at that voltage (left to integrate the
+ * dip, it comes out of a long probe volts off). */
+static q15_t l_probe_vd(foc_ctrl_t *c, q15_t v_max)
+{
+    const uint8_t k = c->lprobe;
+    if (k == 1u) {
+        c->current_ctrl.d_hold = (q15_t)(c->current_ctrl.pi_d.integ / 32768);
+        c->lprobe_min = c->i_dq.d;
+    } else if (c->i_dq.d < c->lprobe_min) {
+        c->lprobe_min = c->i_dq.d;
+    }
+    foc_pi_preset(&c->current_ctrl.pi_d, c->current_ctrl.d_hold);
+    const q15_t dv = (k <= FOC_LPROBE_N) ? (q15_t)-FOC_LPROBE_DV
+                     : (k <= 2u * FOC_LPROBE_N) ? FOC_LPROBE_DV : 0;
+    const q15_t vd = foc_add_q15(c->current_ctrl.d_hold, dv);
+    return (vd > v_max) ? v_max : (vd < (q15_t)-v_max) ? (q15_t)-v_max : vd;
 }
 
 /* The current loop on the forced angle (start-up) or the estimate: every
@@ -238,6 +265,9 @@ static void current_loop(foc_ctrl_t *c, uint8_t forced)
     const q15_t v_max = c->bus.v_max;
     c->v_dq.d = foc_cc_d_axis(&c->current_ctrl, c->i_ref_slewed.d, c->i_dq.d, v_max, step.d);
     if (forced != 0u) {
+        if (c->lprobe != 0u && c->lprobe <= FOC_LPROBE_PERIODS) {
+            c->v_dq.d = l_probe_vd(c, v_max);
+        }
         /* the q swing current may use what the d current leaves */
         c->v_dq.q = foc_cc_q_forced(&c->current_ctrl, forced_vq(c->startup.speed, c->i_ref_slewed.d), c->i_dq.q,
                                     c->forced_iq_max, c->v_dq.d, v_max, c->est.speed);
@@ -409,6 +439,10 @@ void foc_fast_step(foc_ctrl_t *c)
          * the forced speed here in OPENLOOP (one writer each) */
         if (c->state == FOC_STATE_OPENLOOP) {
             foc_startup_fast(&c->startup);
+        } else if (c->lprobe_req == 0u) {
+            c->lprobe = 0;
+        } else if (c->lprobe < FOC_LPROBE_DONE) {
+            c->lprobe++; /* the inductance probe, asked by the slow step */
         }
         current_loop(c, 1u);
         break;
@@ -561,6 +595,24 @@ static void identify_rs(foc_ctrl_t *c)
     foc_est_set_rs(&c->est, (q15_t)ratio);
 }
 
+/* The inductance probe's dip against the one the parameter's Ld gives
+ * (FOC_LPROBE_DI), less the winding's own decay over it (Rs T / 2, Rs
+ * the alignment's): Ld / MOTOR_LD_H, applied to both axes within
+ * [0.5, 2).  A wrong inductance fakes a speed from every torque step
+ * (dL / psi) diq/dt, which the speed loop turns back into current
+ * (docs/safety.md); the PLL and the flux estimator take the measure. */
+static void identify_ls(foc_ctrl_t *c)
+{
+    const int32_t dip = (int32_t)FOC_ALIGN_CURRENT - (int32_t)c->lprobe_min;
+    if (c->i_dq.d < FOC_ALIGN_CURRENT / 2 || dip <= 0) {
+        return; /* not held: no measure */
+    }
+    int32_t ratio = ((int32_t)FOC_LPROBE_DI * 16384) / dip -
+                    ((FOC_LPROBE_RT_Q14 * (int32_t)c->est.rs_ratio) >> 14);
+    ratio = (ratio < FOC_LS_RATIO_MIN) ? FOC_LS_RATIO_MIN : (ratio > 32767) ? 32767 : ratio;
+    foc_est_set_ls(&c->est, (q15_t)ratio);
+}
+
 static void startup_tick(foc_ctrl_t *c)
 {
     if (c->start_ticks >= FOC_STARTUP_TIMEOUT_TICKS) {
@@ -568,9 +620,19 @@ static void startup_tick(foc_ctrl_t *c)
         return;
     }
     if (c->state == FOC_STATE_ALIGN) {
-        if (foc_startup_align_tick(&c->startup) != 0u) {
-            identify_rs(c);
+        /* the rotor held at the alignment current while the fast step
+         * probes the inductance (i_ref unchanged) */
+        if (c->lprobe_req != 0u) {
+            if (c->lprobe != FOC_LPROBE_DONE) {
+                return;
+            }
+            identify_ls(c);
+            c->lprobe_req = 0;
             enter(c, FOC_STATE_OPENLOOP);
+        } else if (foc_startup_align_tick(&c->startup) != 0u) {
+            identify_rs(c);
+            c->lprobe_req = 1;
+            return;
         }
     } else {
         const q15_t limit = (c->opt.open_loop_only != 0u) ? foc_abs_q15(c->req.speed)

@@ -7,7 +7,7 @@ int foc_est_select(foc_estimator_t *est, foc_est_kind_t kind)
     if ((unsigned)kind > (unsigned)FOC_EST_FLUX || !FOC_EST_BUILT(kind)) {
         return -1;
     }
-    est->kind = kind;
+    est->kind = (uint8_t)kind;
     return 0;
 }
 
@@ -36,6 +36,7 @@ static void restart_at(foc_estimator_t *est, uint16_t theta, q15_t speed)
         break;
     }
     foc_est_set_rs(est, est->rs_ratio);
+    foc_est_set_ls(est, est->ls_ratio);
     foc_est_publish(est);
 }
 
@@ -64,6 +65,16 @@ void foc_est_set_rs(foc_estimator_t *est, q15_t ratio_q14)
     }
 }
 
+void foc_est_set_ls(foc_estimator_t *est, q15_t ratio_q14)
+{
+    est->ls_ratio = ratio_q14;
+    if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == FOC_EST_PLL) {
+        foc_pll_set_ls_scale(&est->u.pll, Q15(0.5), ratio_q14);
+    } else if (FOC_EST_BUILT(FOC_EST_FLUX) && est->kind == FOC_EST_FLUX) {
+        foc_flux_set_ls(&est->u.flux, ratio_q14);
+    }
+}
+
 void foc_est_track_flux(foc_estimator_t *est)
 {
     if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == FOC_EST_PLL) {
@@ -82,7 +93,7 @@ void foc_est_set_fw(foc_estimator_t *est, q15_t inv_kfi, q15_t ls_scale)
 {
     if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == FOC_EST_PLL) {
         foc_pll_set_inv_kfi(&est->u.pll, inv_kfi);
-        foc_pll_set_ls_scale(&est->u.pll, ls_scale);
+        foc_pll_set_ls_scale(&est->u.pll, ls_scale, est->ls_ratio);
     }
 }
 

@@ -12,10 +12,10 @@
 /* Largest correction gain per period, Q15 (0.5). */
 #define G_MAX ((int32_t)16384)
 
-/* Ls i, Q15 flux (FOC_FLUX_LS < 0.5). */
-static q15_t ls_i(q15_t i)
+/* Ls i, Q15 flux (Ls < 1.0: FOC_FLUX_LS < 0.5 times a ratio < 2). */
+static q15_t ls_i(const foc_flux_est_t *f, q15_t i)
 {
-    return foc_mul_q15(i, FOC_FLUX_LS);
+    return foc_mul_q15(i, f->ls);
 }
 
 /* Rotor flux psi_s - Ls i on one axis, Q15. */
@@ -29,13 +29,19 @@ void foc_flux_set_rs(foc_flux_est_t *f, q15_t ratio_q14)
     f->rs = foc_mul_q15(FOC_RS2_MANT, ratio_q14);
 }
 
+void foc_flux_set_ls(foc_flux_est_t *f, q15_t ratio_q14)
+{
+    f->ls = foc_mul_q15_shift(FOC_FLUX_LS, ratio_q14, 1);
+}
+
 void foc_flux_reset(foc_flux_est_t *f, uint16_t theta, q15_t speed, foc_ab_t i_now)
 {
+    foc_flux_set_ls(f, FOC_LS_RATIO_ONE);
     const foc_sincos_t sc = foc_sincos_q15(theta);
     f->psi_r.alpha = foc_mul_q15(FOC_FLUX_PSI_M, sc.cos);
     f->psi_r.beta = foc_mul_q15(FOC_FLUX_PSI_M, sc.sin);
-    f->psi_alpha = (q31_t)foc_add_q15(f->psi_r.alpha, ls_i(i_now.alpha)) * (q31_t)65536;
-    f->psi_beta = (q31_t)foc_add_q15(f->psi_r.beta, ls_i(i_now.beta)) * (q31_t)65536;
+    f->psi_alpha = (q31_t)foc_add_q15(f->psi_r.alpha, ls_i(f, i_now.alpha)) * (q31_t)65536;
+    f->psi_beta = (q31_t)foc_add_q15(f->psi_r.beta, ls_i(f, i_now.beta)) * (q31_t)65536;
     f->i_prev = i_now;
     f->psi_m = (q31_t)FOC_FLUX_PSI_M * (q31_t)65536;
     foc_flux_set_rs(f, FOC_RS_RATIO_ONE);
@@ -108,8 +114,8 @@ void foc_flux_step(foc_flux_est_t *f, foc_ab_t v_last, foc_ab_t i_now, q15_t iq_
     f->psi_alpha = integrate(f->psi_alpha, v_last.alpha, i_now.alpha, f->i_prev.alpha, f->rs);
     f->psi_beta = integrate(f->psi_beta, v_last.beta, i_now.beta, f->i_prev.beta, f->rs);
     f->i_prev = i_now;
-    const q15_t li_alpha = ls_i(i_now.alpha);
-    const q15_t li_beta = ls_i(i_now.beta);
+    const q15_t li_alpha = ls_i(f, i_now.alpha);
+    const q15_t li_beta = ls_i(f, i_now.beta);
 
     /* Eq. 16: 3 th(k-1) - 3 th(k-2) + th(k-3)
      *       = th(k-1) + 2 (th(k-1) - th(k-2)) - (th(k-2) - th(k-3));

@@ -10,7 +10,7 @@ static const foc_ab_t zero_ab = { 0, 0 };
 void foc_pll_init(foc_pll_t *p)
 {
     p->inv_kfi = FOC_PLL_INVKFI;
-    foc_pll_set_ls_scale(p, Q15(0.5));
+    foc_pll_set_ls_scale(p, Q15(0.5), FOC_LS_RATIO_ONE);
     foc_pll_set_rs(p, FOC_RS_RATIO_ONE);
     foc_pll_reset(p, 0, 0, zero_ab);
 }
@@ -25,10 +25,10 @@ void foc_pll_set_inv_kfi(foc_pll_t *p, q15_t inv_kfi)
     p->inv_kfi = inv_kfi;
 }
 
-void foc_pll_set_ls_scale(foc_pll_t *p, q15_t ls_over_2ls0)
+void foc_pll_set_ls_scale(foc_pll_t *p, q15_t ls_over_2ls0, q15_t ratio_q14)
 {
-    /* nominal mantissa x 2 x scale: 0.5 gives the nominal Ls */
-    p->ls_dt = foc_mul_q15_shift(FOC_PLL_LSDT_MANT, ls_over_2ls0, 1);
+    /* nominal mantissa x 2 x scale x ratio: 0.5 and 1.0 give the nominal Ls */
+    p->ls_dt = foc_mul_q15_shift(foc_mul_q15_shift(FOC_PLL_LSDT_MANT, ls_over_2ls0, 1), ratio_q14, 1);
 }
 
 void foc_pll_reset(foc_pll_t *p, uint16_t theta, q15_t speed, foc_ab_t i_now)

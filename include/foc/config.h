@@ -503,6 +503,29 @@ FOC_STATIC_ASSERT(FOC_NORM_OK(FOC_SOBS_FF_X),
  * the Hurst075's 0.12 s alignment), per tick. */
 #define FOC_ALIGN_TURN_TICKS (FOC_ALIGN_HALF_TICKS / 12u > 0u ? FOC_ALIGN_HALF_TICKS / 12u : 1u)
 #define FOC_ALIGN_TURN_STEP32 ((int32_t)(1073741824L / (int32_t)FOC_ALIGN_TURN_TICKS + 1))
+/* The alignment's inductance probe (controller.c, identify_ls): with the
+ * rotor held on d by the alignment current, the d PI is held and its
+ * voltage stepped down by FOC_LPROBE_DV for FOC_LPROBE_N periods, then up
+ * as long, so the current dips by about dV N Ts / Ld and comes back.
+ * N: a quarter of the winding's time constant Ld / Rs (2 to 16 periods),
+ * so that Rs bends the ramp little (its first-order share, Rs T / 2, is
+ * taken off: FOC_LPROBE_RT_Q14); dV: a dip of a quarter of the
+ * alignment current with the parameter's Ld (FOC_LPROBE_DI).  Two more
+ * periods for the PWM's and the sample's lag; the state after the last
+ * (FOC_LPROBE_DONE) tells the slow step it is over. */
+#define FOC_LPROBE_N_D (MOTOR_LD_H / MOTOR_RS_OHM / FOC_TS_S / 4.0)
+#define FOC_LPROBE_N ((uint8_t)(FOC_LPROBE_N_D < 2.0 ? 2.0 : FOC_LPROBE_N_D > 16.0 ? 16.0 : FOC_LPROBE_N_D))
+#define FOC_LPROBE_T_S ((double)FOC_LPROBE_N * FOC_TS_S)
+#define FOC_LPROBE_DI_A (STARTUP_ALIGN_CURRENT_A / 4.0)
+#define FOC_LPROBE_DI FOC_I_Q15(FOC_LPROBE_DI_A)
+#define FOC_LPROBE_DV_V (MOTOR_LD_H * FOC_LPROBE_DI_A / FOC_LPROBE_T_S)
+#define FOC_LPROBE_DV Q15(FOC_LPROBE_DV_V / FOC_V_BASE_V)
+#define FOC_LPROBE_RT_Q14 ((int32_t)(16384.0 * MOTOR_RS_OHM * FOC_LPROBE_T_S / (2.0 * MOTOR_LD_H) + 0.5))
+#define FOC_LPROBE_PERIODS ((uint8_t)(2u * FOC_LPROBE_N + 2u))
+#define FOC_LPROBE_DONE ((uint8_t)(FOC_LPROBE_PERIODS + 1u))
+/* Its result: Ls as a ratio to MOTOR_LQ_H, Q14, within [0.5, 2). */
+#define FOC_LS_RATIO_ONE ((q15_t)16384)
+#define FOC_LS_RATIO_MIN ((q15_t)8192)
 #define FOC_OL_FINAL_SPEED FOC_SPEED_Q15(STARTUP_FINAL_SPEED_RPM)
 #define FOC_OL_RAMP_TICKS FOC_TICKS(STARTUP_RAMP_TIME_S)
 /* Forced-speed step per slow tick in Q15.16, so the ramp time is exact. */
@@ -629,6 +652,10 @@ FOC_STATIC_ASSERT(CALIB_TIME_S / FOC_SLOW_TS_S < 65535.0 &&
                   CALIB_TIME_S * PWM_FREQUENCY_HZ >= 1024.0,
                   "CALIB_TIME_S must cover at least 1024 PWM periods");
 FOC_STATIC_ASSERT(SPEED_FILTER_TIME_S >= 0.0, "SPEED_FILTER_TIME_S must be >= 0");
+FOC_STATIC_ASSERT(MOTOR_RS_OHM * STARTUP_ALIGN_CURRENT_A * 2.0 + FOC_LPROBE_DV_V <
+                      VOLTAGE_LIMIT_FRACTION * FOC_V_BASE_V,
+                  "the alignment's inductance probe needs more voltage than the bus "
+                  "gives at STARTUP_ALIGN_CURRENT_A (MOTOR_LD_H, MOTOR_RS_OHM)");
 FOC_STATIC_ASSERT(2.0 * FOC_RS_PU < 32768.0, "MOTOR_RS_OHM too high for the per-unit format");
 FOC_STATIC_ASSERT(2.0 * FOC_LS_DT_PU < 32768.0,
                   "MOTOR_LQ_H too high for the per-unit format at PWM_FREQUENCY_HZ");

@@ -153,6 +153,11 @@ typedef struct {
                             /* restart, 0 once done */
     uint8_t probe_first;    /* [fast] which sample of the probe's first */
                             /* short was kept (1, 2; 0: not yet) */
+    uint8_t lprobe_req;     /* [slow] 1: the alignment's inductance probe */
+                            /* is wanted (held until its result is read) */
+    uint8_t lprobe;         /* [fast] its period (1..FOC_LPROBE_PERIODS), */
+                            /* FOC_LPROBE_DONE once over, 0 when not asked; */
+                            /* the voltage it steps from: current_ctrl.d_hold */
     foc_protection_t protection; /* [slow] */
 
     foc_current_sense_t current_sense; /* [slow] starts a calibration in */
@@ -188,6 +193,8 @@ typedef struct {
     uint16_t unreliable_ticks; /* [slow] stall detection counters */
     uint16_t emf_low_ticks;    /* [slow] */
     uint16_t state_ticks;   /* [slow] slow ticks spent in the present state */
+    q15_t lprobe_min;       /* [fast] the lowest d current during the */
+                            /* inductance probe (here: no padding) */
     struct foc_scope *scope; /* [init] NULL: none (debug outputs id, iq); */
                              /* the application attaches one after foc_init */
 } foc_ctrl_t;

@@ -35,7 +35,7 @@ typedef struct {
 } foc_est_input_t;
 
 typedef struct {
-    foc_est_kind_t kind;
+    uint8_t kind;           /* foc_est_kind_t (one byte: the struct packs) */
     uint8_t use_sensor;     /* 1: the controller runs on the sensor */
     uint16_t theta;         /* used by the controller, 65536 = 360 deg */
     q15_t speed;            /* used by the controller, Q15 of SPEED_BASE_RPM */
@@ -43,6 +43,7 @@ typedef struct {
     q15_t est_speed;
     q15_t rs_ratio;         /* [slow] Rs / MOTOR_RS_OHM, Q14: the alignment's */
                             /* measure, kept over restarts */
+    q15_t ls_ratio;         /* [slow] Ls / MOTOR_LQ_H, Q14: the same */
     foc_sensored_t sensored;
     union {                 /* one sensorless estimator runs at a time */
         foc_pll_t pll;
@@ -151,9 +152,14 @@ void foc_est_track_reset(foc_estimator_t *est);
  * estimators that model it (PLL, flux) from now and after restarts. */
 void foc_est_set_rs(foc_estimator_t *est, q15_t ratio_q14);
 
+/* Ls as a ratio to MOTOR_LQ_H, Q14 within [0.5, 2) (the alignment's
+ * measure on d, both axes scaled alike), for the PLL and the flux
+ * estimator likewise (the Luenberger observer's model is compiled in). */
+void foc_est_set_ls(foc_estimator_t *est, q15_t ratio_q14);
+
 /* Field weakening's run-time machine constants: 1/KFi as a mantissa of
- * FOC_PLL_INVKFI_SHIFT and Ls/(2 Ls0) in Q15 (0.5 nominal); estimators
- * that model neither ignore them. */
+ * FOC_PLL_INVKFI_SHIFT and Ls/(2 Ls0) in Q15 (0.5 nominal, times the
+ * alignment's Ls ratio); estimators that model neither ignore them. */
 void foc_est_set_fw(foc_estimator_t *est, q15_t inv_kfi, q15_t ls_scale);
 
 /* 1 if the estimator's back-EMF magnitude is at least `ratio` (Q15) of

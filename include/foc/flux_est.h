@@ -74,16 +74,20 @@ typedef struct {
     uint16_t theta;            /* rotor angle at the sample (output) */
     foc_speed_obs_t obs;       /* speed (output) */
     q15_t rs;                  /* [slow] Rs mantissa (FOC_RS2_SHIFT) */
+    q15_t ls;                  /* [slow] Ls, Q15 of the flux base per */
+                               /* current base (FOC_FLUX_LS nominal) */
 } foc_flux_est_t;
 
 /* Restarts from angle `theta` and speed `speed` (Q15) with the present
  * current `i_now`: the flux is set to what they imply and the speed
  * observer's load to the present q current (hand-over from another angle
- * source at steady speed); Rs nominal (foc_flux_set_rs). */
+ * source at steady speed); Rs and Ls nominal (foc_flux_set_rs, _ls). */
 void foc_flux_reset(foc_flux_est_t *f, uint16_t theta, q15_t speed, foc_ab_t i_now);
 
 /* Rs as a ratio to MOTOR_RS_OHM, Q14 (the alignment's measure). */
 void foc_flux_set_rs(foc_flux_est_t *f, q15_t ratio_q14);
+/* Ls as a ratio to MOTOR_LQ_H, Q14 within [0.5, 2) (the alignment's). */
+void foc_flux_set_ls(foc_flux_est_t *f, q15_t ratio_q14);
 
 /* One PWM period: `v_last` applied during the period that ended at this
  * sample, `i_now` measured now, `iq_ref` the q-current command (torque

@@ -92,9 +92,10 @@ void foc_pll_track_flux(foc_pll_t *p);
 void foc_pll_track_reset(foc_pll_t *p);
 /* Field weakening: 1/KFi as a Q15 mantissa of FOC_PLL_INVKFI_SHIFT
  * (FOC_PLL_INVKFI is nominal) and Ls/(2 Ls0) in Q15 (0.5 nominal, up to
- * 1.0 = twice nominal). */
+ * 1.0 = twice nominal), times the alignment's Ls ratio (Q14; the product
+ * saturates at twice nominal). */
 void foc_pll_set_inv_kfi(foc_pll_t *p, q15_t inv_kfi);
-void foc_pll_set_ls_scale(foc_pll_t *p, q15_t ls_over_2ls0);
+void foc_pll_set_ls_scale(foc_pll_t *p, q15_t ls_over_2ls0, q15_t ratio_q14);
 
 static inline q15_t foc_pll_speed(const foc_pll_t *p)
 {
