@@ -600,7 +600,7 @@ static void identify_rs(foc_ctrl_t *c)
  * the alignment's): Ld / MOTOR_LD_H, applied to both axes within
  * [0.5, 2).  A wrong inductance fakes a speed from every torque step
  * (dL / psi) diq/dt, which the speed loop turns back into current
- * (docs/safety.md); the PLL and the flux estimator take the measure. */
+ * (docs/safety.md); every sensorless estimator takes the measure. */
 static void identify_ls(foc_ctrl_t *c)
 {
     const int32_t dip = (int32_t)FOC_ALIGN_CURRENT - (int32_t)c->lprobe_min;

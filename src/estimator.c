@@ -72,6 +72,8 @@ void foc_est_set_ls(foc_estimator_t *est, q15_t ratio_q14)
         foc_pll_set_ls_scale(&est->u.pll, Q15(0.5), ratio_q14);
     } else if (FOC_EST_BUILT(FOC_EST_FLUX) && est->kind == FOC_EST_FLUX) {
         foc_flux_set_ls(&est->u.flux, ratio_q14);
+    } else if (FOC_EST_BUILT(FOC_EST_LUENBERGER) && est->kind == FOC_EST_LUENBERGER) {
+        foc_luen_set_ls(&est->u.luenberger, ratio_q14);
     }
 }
 

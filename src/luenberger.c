@@ -92,22 +92,41 @@ void foc_luen_reset(foc_luenberger_t *l, uint16_t theta, q15_t speed, foc_ab_t i
     l->theta = theta;
     l->omega = speed;
     foc_lpf_init(&l->speed, speed);
+    foc_luen_set_ls(l, FOC_LS_RATIO_ONE);
 }
 
 /* One axis of the observer: predicts the current from the last period's
  * voltage and EMF, compares it with the sample and corrects both states. */
-static void observe_axis(int32_t *i_st, int32_t *e_st, q15_t v_last, q15_t i_now)
+static void observe_axis(const foc_luenberger_t *l, int32_t *i_st, int32_t *e_st, q15_t v_last,
+                         q15_t i_now)
 {
     const q15_t i_hat = q15_part(*i_st, FOC_LUEN_F1_LOG2);
     const q15_t e_hat = q15_part(*e_st, FOC_LUEN_F2_LOG2);
-    /* |sum| < 2^31: config.h checks F1 + |C1| + |C2| + |C3| + |C5| < 2^16. */
-    const int32_t i_pred = clamp32(*i_st - (int32_t)FOC_LUEN_C1 * i_hat -
-                                       (int32_t)FOC_LUEN_C3 * e_hat +
-                                       (int32_t)FOC_LUEN_C5 * v_last,
+    /* |sum| < 2^31: config.h holds F1 + |C1| + |C2| + |C3| + |C5| < 2^16. */
+    const int32_t i_pred = clamp32(*i_st - (int32_t)l->c1 * i_hat - (int32_t)l->c3 * e_hat +
+                                       (int32_t)l->c5 * v_last,
                                    I_STATE_MAX);
     const q15_t err = foc_sub_q15(q15_part(i_pred, FOC_LUEN_F1_LOG2), i_now);
-    *i_st = clamp32(i_pred + (int32_t)FOC_LUEN_C2 * err, I_STATE_MAX);
-    *e_st = clamp32(*e_st + (int32_t)FOC_LUEN_C4 * err, E_STATE_MAX);
+    *i_st = clamp32(i_pred + (int32_t)l->c2 * err, I_STATE_MAX);
+    *e_st = clamp32(*e_st + (int32_t)l->c4 * err, E_STATE_MAX);
+}
+
+/* c x 16384 / ratio (Q14), within q15_t (the ratio's range keeps it so). */
+static q15_t over_ratio(int32_t c, int32_t ratio_q14)
+{
+    return foc_sat_q15(c * 16384 / ratio_q14);
+}
+
+void foc_luen_set_ls(foc_luenberger_t *l, q15_t ratio_q14)
+{
+    const int32_t r = (ratio_q14 < FOC_LUEN_RATIO_MIN)   ? FOC_LUEN_RATIO_MIN
+                      : (ratio_q14 > FOC_LUEN_RATIO_MAX) ? FOC_LUEN_RATIO_MAX
+                                                         : ratio_q14;
+    l->c1 = over_ratio(FOC_LUEN_C1, r);
+    l->c2 = foc_sat_q15((int32_t)FOC_LUEN_C2 - FOC_LUEN_C2X + over_ratio(FOC_LUEN_C2X, r));
+    l->c3 = over_ratio(FOC_LUEN_C3, r);
+    l->c4 = foc_sat_q15(((int32_t)FOC_LUEN_C4 * r) >> 14);
+    l->c5 = over_ratio(FOC_LUEN_C5, r);
 }
 
 /* e += h J e: rotation by h = w T (Q16 rad), forward Euler as ST. */
@@ -124,8 +143,8 @@ static void rotate_emf(foc_luen_ab32_t *e, q15_t speed)
 
 void foc_luen_step(foc_luenberger_t *l, foc_ab_t v_last, foc_ab_t i_now)
 {
-    observe_axis(&l->i_est.alpha, &l->e_est.alpha, v_last.alpha, i_now.alpha);
-    observe_axis(&l->i_est.beta, &l->e_est.beta, v_last.beta, i_now.beta);
+    observe_axis(l, &l->i_est.alpha, &l->e_est.alpha, v_last.alpha, i_now.alpha);
+    observe_axis(l, &l->i_est.beta, &l->e_est.beta, v_last.beta, i_now.beta);
 
     /* PLL.  e^ is the EMF of the last period: project it on the axes of
      * the angle half a period back.  e_q (signed) is the speed at nominal

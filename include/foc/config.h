@@ -275,6 +275,28 @@
 #define FOC_LUEN_C6 FOC_LUEN_ROUND(FOC_LUEN_C6_D)
 #define FOC_LUEN_F1_LOG2 ((uint8_t)(FOC_GAIN_SHIFT((double)LUENBERGER_F1) - 1))
 #define FOC_LUEN_F2_LOG2 ((uint8_t)(FOC_GAIN_SHIFT((double)LUENBERGER_F2) - 1))
+/* The alignment's Ls ratio r (controller.c identify_ls) moves the model to
+ * the measured winding (luenberger.c foc_luen_set_ls): C1, C3, C5 (Rs T/Ls,
+ * T/Ls) over r, C2's share F1 Rs T/Ls (FOC_LUEN_C2X) over r, C4 (K2 =
+ * Ls wo^2 from tune.py) times r, so that the observer keeps the poles it
+ * was designed with.  r is held where every constant and sum keeps its
+ * format: 1/r at most FOC_LUEN_INV_R_MAX_D (C1, C3, C5 below 32767, the
+ * current update's sum below 2^16, C2 at most -16), r at most
+ * FOC_LUEN_R_MAX_D (C4 below 32767, the EMF update's sum below 2^16). */
+#define FOC_LUEN_MIN_D(a, b) ((a) < (b) ? (a) : (b))
+#define FOC_LUEN_C2X_D (LUENBERGER_F1 * FOC_LUEN_X)
+#define FOC_LUEN_C2X FOC_LUEN_ROUND(FOC_LUEN_C2X_D)
+#define FOC_LUEN_INV_R_MAX_D                                                   \
+    FOC_LUEN_MIN_D(FOC_LUEN_MIN_D(2.0, 32767.0 / FOC_LUEN_C1_D),               \
+                   FOC_LUEN_MIN_D(FOC_LUEN_MIN_D(32767.0 / FOC_LUEN_C3_D, 32767.0 / FOC_LUEN_C5_D), \
+                                  FOC_LUEN_MIN_D((65535.0 - LUENBERGER_F1 + FOC_LUEN_C2_D - FOC_LUEN_C2X_D) / \
+                                                     (FOC_LUEN_C1_D + FOC_LUEN_C3_D + FOC_LUEN_C5_D - FOC_LUEN_C2X_D), \
+                                                 1.0 + (-16.0 - FOC_LUEN_C2_D) / FOC_LUEN_C2X_D)))
+#define FOC_LUEN_R_MAX_D                                                       \
+    FOC_LUEN_MIN_D(FOC_LUEN_MIN_D(2.0, 32767.0 / FOC_LUEN_C4_D),               \
+                   (65535.0 - 1.5 * LUENBERGER_F2) / FOC_LUEN_C4_D)
+#define FOC_LUEN_RATIO_MIN ((q15_t)(16384.0 / FOC_LUEN_INV_R_MAX_D + 1.0))
+#define FOC_LUEN_RATIO_MAX ((q15_t)(FOC_LUEN_R_MAX_D >= 2.0 ? 32767.0 : 16384.0 * FOC_LUEN_R_MAX_D))
 /* Observer error dynamics per axis (rotation aside): x = (current error
  * after correction, EMF error), x(k+1) = M x(k) with
  * det M = (1 + K1 T)(1 - G) and trace M = det M + 1 - K2 T B. */
@@ -325,6 +347,8 @@ FOC_STATIC_ASSERT(FOC_LUEN_C1_D - FOC_LUEN_C2_D + FOC_LUEN_C3_D + FOC_LUEN_C5_D 
 FOC_STATIC_ASSERT(1.5 * LUENBERGER_F2 + FOC_LUEN_C4_D < 65535.0,
                   "LUENBERGER_F2 or LUENBERGER_K2_V_PER_AS too large: the observer "
                   "EMF update could overflow 32 bits");
+FOC_STATIC_ASSERT(FOC_LUEN_INV_R_MAX_D >= 1.0 && FOC_LUEN_R_MAX_D >= 1.0,
+                  "the Luenberger observer's constants leave no room for the measured Ls");
 FOC_STATIC_ASSERT(FOC_LUEN_C6_D < 32767.0,
                   "SPEED_BASE_RPM x MOTOR_POLE_PAIRS too high for PWM_FREQUENCY_HZ "
                   "(Luenberger observer: over 0.5 rad per period at base speed)");

@@ -153,8 +153,9 @@ void foc_est_track_reset(foc_estimator_t *est);
 void foc_est_set_rs(foc_estimator_t *est, q15_t ratio_q14);
 
 /* Ls as a ratio to MOTOR_LQ_H, Q14 within [0.5, 2) (the alignment's
- * measure on d, both axes scaled alike), for the PLL and the flux
- * estimator likewise (the Luenberger observer's model is compiled in). */
+ * measure on d, both axes scaled alike), for the PLL, the flux estimator
+ * and the Luenberger observer (its model's constants, within their
+ * formats) from now and after restarts. */
 void foc_est_set_ls(foc_estimator_t *est, q15_t ratio_q14);
 
 /* Field weakening's run-time machine constants: 1/KFi as a mantissa of
