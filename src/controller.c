@@ -860,20 +860,24 @@ static void state_machine(foc_ctrl_t *c)
     case FOC_STATE_RUN:
         run_tick(c);
         break;
-    case FOC_STATE_STOP:
+    case FOC_STATE_STOP: {
         speed_loop(c, 0);
-        /* down to the stop speed, or (an estimate that never settles) out
-         * of time: FOC_STOP_SETTLE_TICKS after the ramp reached zero
-         * (start_ticks, unused in STOP, counts them) or the ramp from the
-         * maximum speed and those: outputs off either way */
+        /* down to the stop speed (the reference and the speed within it,
+         * the speed with a quarter's lag), or (an estimate that never
+         * settles) out of time: FOC_STOP_SETTLE_TICKS after the ramp
+         * reached zero (start_ticks, unused in STOP, counts them) or the
+         * ramp from the maximum speed and those: outputs off either way */
+        const q15_t stop_speed = (c->est.use_sensor != 0u) ? FOC_STOP_SPEED : FOC_STOP_SPEED_ESTIMATED;
         if (c->speed_ctrl.ramped != 0) {
             c->start_ticks = 0;
         }
-        if ((c->speed_ctrl.ramped == 0 && foc_abs_q15(c->est.speed) <= FOC_STOP_SPEED) ||
+        if ((foc_abs_q15(c->speed_ctrl.ramped) <= stop_speed &&
+             foc_abs_q15(c->est.speed) <= stop_speed + (stop_speed >> 2)) ||
             c->start_ticks >= FOC_STOP_SETTLE_TICKS || c->state_ticks >= FOC_RAMP_DOWN_TICKS) {
             to_idle(c);
         }
         break;
+    }
     case FOC_STATE_BRAKE:
         brake_tick(c);
         break;

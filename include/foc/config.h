@@ -575,6 +575,12 @@ FOC_STATIC_ASSERT(FOC_NORM_OK(FOC_SOBS_FF_X),
 #define FOC_XD_MANT FOC_GAIN_MANT(FOC_XD_PU)
 #define FOC_XD_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_XD_PU))
 #define FOC_STARTUP_MIN_SPEED FOC_SPEED_Q15(STARTUP_MIN_SPEED_RPM)
+/* STOP (ramp mode) leaves the rotor to coast at STOP_SPEED_RPM, but on an
+ * estimate not below STARTUP_MIN_SPEED_RPM, the lowest speed the
+ * estimators carry the loop at: lower, the drone's Luenberger observer
+ * lost its angle in the ramp (1.11 x the current limit, torture seed 434).
+ * The position sensor runs down to STOP_SPEED_RPM. */
+#define FOC_STOP_SPEED_ESTIMATED ((FOC_STOP_SPEED > FOC_STARTUP_MIN_SPEED) ? FOC_STOP_SPEED : FOC_STARTUP_MIN_SPEED)
 /* Speed window as ratios in Q8 (256 = 1.0). */
 #define FOC_STARTUP_WINDOW_MIN_Q8 ((int32_t)(STARTUP_SPEED_WINDOW_MIN * 256.0 + 0.5))
 #define FOC_STARTUP_WINDOW_MAX_Q8 ((int32_t)(STARTUP_SPEED_WINDOW_MAX * 256.0 + 0.5))
