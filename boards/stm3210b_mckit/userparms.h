@@ -172,7 +172,9 @@
 
 /* ---------------------------------------------------------- application -- */
 #define CALIB_TIME_S                0.07     /* current-offset calibration */
-#define STOP_SPEED_RPM              50.0     /* STOP ramps down to this, then */
+#define STOP_SPEED_RPM              50.0     /* STOP ramps down to this (on an */
+                                             /* estimate, not below */
+                                             /* STARTUP_MIN_SPEED_RPM), then */
                                              /* turns the outputs off */
 
 /* ------------------------------------------------------------- start-up -- */
