@@ -167,8 +167,8 @@ void foc_init(foc_ctrl_t *c)
     c->direction = 1;
     reset_run_state(c);
     outputs_off(c);
-    c->est.rs_ratio = FOC_RS_RATIO_ONE;
-    c->est.ls_ratio = FOC_LS_RATIO_ONE;
+    c->est.rs_ratio = FOC_RATIO_ONE_Q14;
+    c->est.ls_ratio = FOC_RATIO_ONE_Q14;
     c->lprobe = 0;
     foc_est_reset(&c->est, 0, 1);
     foc_est_track_reset(&c->est);
@@ -583,6 +583,12 @@ static void hand_over(foc_ctrl_t *c, uint16_t theta_from)
  * its extra voltage drop as a back-EMF, and a stalled rotor as turning.
  * One sample of the fast step's 16-bit vd and id (the integrator is 32-bit,
  * which the slow step cannot read whole on a 16-bit core). */
+/* An alignment measure's ratio held within [0.5, 2) (Q14). */
+static q15_t measured_ratio(int32_t ratio_q14)
+{
+    return (ratio_q14 < FOC_RATIO_MIN_Q14) ? FOC_RATIO_MIN_Q14 : (ratio_q14 > 32767) ? 32767 : (q15_t)ratio_q14;
+}
+
 static void identify_rs(foc_ctrl_t *c)
 {
     const q15_t id = c->i_dq.d;
@@ -590,9 +596,8 @@ static void identify_rs(foc_ctrl_t *c)
         return; /* not held: no measure */
     }
     const int32_t drop = (int32_t)foc_mul_q15_shift(id, FOC_RS_MANT, FOC_RS_SHIFT); /* Rs id */
-    int32_t ratio = ((int32_t)c->v_dq.d * 16384) / ((drop > 0) ? drop : 1);
-    ratio = (ratio < FOC_RS_RATIO_MIN) ? FOC_RS_RATIO_MIN : (ratio > 32767) ? 32767 : ratio;
-    foc_est_set_rs(&c->est, (q15_t)ratio);
+    const int32_t ratio = ((int32_t)c->v_dq.d * 16384) / ((drop > 0) ? drop : 1);
+    foc_est_set_rs(&c->est, measured_ratio(ratio));
 }
 
 /* The inductance probe's dip against the one the parameter's Ld gives
@@ -607,10 +612,9 @@ static void identify_ls(foc_ctrl_t *c)
     if (c->i_dq.d < FOC_ALIGN_CURRENT / 2 || dip <= 0) {
         return; /* not held: no measure */
     }
-    int32_t ratio = ((int32_t)FOC_LPROBE_DI * 16384) / dip -
-                    ((FOC_LPROBE_RT_Q14 * (int32_t)c->est.rs_ratio) >> 14);
-    ratio = (ratio < FOC_LS_RATIO_MIN) ? FOC_LS_RATIO_MIN : (ratio > 32767) ? 32767 : ratio;
-    foc_est_set_ls(&c->est, (q15_t)ratio);
+    const int32_t ratio = ((int32_t)FOC_LPROBE_DI * 16384) / dip -
+                          ((FOC_LPROBE_RT_Q14 * (int32_t)c->est.rs_ratio) >> 14);
+    foc_est_set_ls(&c->est, measured_ratio(ratio));
 }
 
 static void startup_tick(foc_ctrl_t *c)

@@ -36,7 +36,7 @@ void foc_flux_set_ls(foc_flux_est_t *f, q15_t ratio_q14)
 
 void foc_flux_reset(foc_flux_est_t *f, uint16_t theta, q15_t speed, foc_ab_t i_now)
 {
-    foc_flux_set_ls(f, FOC_LS_RATIO_ONE);
+    foc_flux_set_ls(f, FOC_RATIO_ONE_Q14);
     const foc_sincos_t sc = foc_sincos_q15(theta);
     f->psi_r.alpha = foc_mul_q15(FOC_FLUX_PSI_M, sc.cos);
     f->psi_r.beta = foc_mul_q15(FOC_FLUX_PSI_M, sc.sin);
@@ -44,7 +44,7 @@ void foc_flux_reset(foc_flux_est_t *f, uint16_t theta, q15_t speed, foc_ab_t i_n
     f->psi_beta = (q31_t)foc_add_q15(f->psi_r.beta, ls_i(f, i_now.beta)) * (q31_t)65536;
     f->i_prev = i_now;
     f->psi_m = (q31_t)FOC_FLUX_PSI_M * (q31_t)65536;
-    foc_flux_set_rs(f, FOC_RS_RATIO_ONE);
+    foc_flux_set_rs(f, FOC_RATIO_ONE_Q14);
     /* Angle history of a constant speed: steps in counts per period,
      * |speed x THETA32_PER_SPEED| < 2^30. */
     const int16_t step = (int16_t)(((int32_t)speed * FOC_THETA32_PER_SPEED) >> 16);

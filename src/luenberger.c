@@ -92,7 +92,7 @@ void foc_luen_reset(foc_luenberger_t *l, uint16_t theta, q15_t speed, foc_ab_t i
     l->theta = theta;
     l->omega = speed;
     foc_lpf_init(&l->speed, speed);
-    foc_luen_set_ls(l, FOC_LS_RATIO_ONE);
+    foc_luen_set_ls(l, FOC_RATIO_ONE_Q14);
 }
 
 /* One axis of the observer: predicts the current from the last period's

@@ -10,8 +10,8 @@ static const foc_ab_t zero_ab = { 0, 0 };
 void foc_pll_init(foc_pll_t *p)
 {
     p->inv_kfi = FOC_PLL_INVKFI;
-    foc_pll_set_ls_scale(p, Q15(0.5), FOC_LS_RATIO_ONE);
-    foc_pll_set_rs(p, FOC_RS_RATIO_ONE);
+    foc_pll_set_ls_scale(p, Q15(0.5), FOC_RATIO_ONE_Q14);
+    foc_pll_set_rs(p, FOC_RATIO_ONE_Q14);
     foc_pll_reset(p, 0, 0, zero_ab);
 }
 

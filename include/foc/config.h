@@ -196,8 +196,10 @@
 #define FOC_RS2_MANT FOC_GAIN_MANT(2.0 * FOC_RS_PU)
 #define FOC_RS_MANT FOC_GAIN_MANT(FOC_RS_PU)
 #define FOC_RS_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_RS_PU))
-#define FOC_RS_RATIO_ONE ((q15_t)16384)
-#define FOC_RS_RATIO_MIN ((q15_t)8192)
+/* The alignment's measures (Rs, and Ls: identify_ls) as ratios to their
+ * parameters, Q14, within [0.5, 2). */
+#define FOC_RATIO_ONE_Q14 ((q15_t)16384)
+#define FOC_RATIO_MIN_Q14 ((q15_t)8192)
 #define FOC_LS_DT_PU (MOTOR_LQ_H * FOC_I_BASE_A / (FOC_V_BASE_V * FOC_TS_S))
 #define FOC_KFI_PU (FOC_FLUX_WB * FOC_WE_BASE_RAD_S / FOC_V_BASE_V)
 #define FOC_INV_KFI_PU (1.0 / FOC_KFI_PU)
@@ -547,9 +549,6 @@ FOC_STATIC_ASSERT(FOC_NORM_OK(FOC_SOBS_FF_X),
 #define FOC_LPROBE_RT_Q14 ((int32_t)(16384.0 * MOTOR_RS_OHM * FOC_LPROBE_T_S / (2.0 * MOTOR_LD_H) + 0.5))
 #define FOC_LPROBE_PERIODS ((uint8_t)(2u * FOC_LPROBE_N + 2u))
 #define FOC_LPROBE_DONE ((uint8_t)(FOC_LPROBE_PERIODS + 1u))
-/* Its result: Ls as a ratio to MOTOR_LQ_H, Q14, within [0.5, 2). */
-#define FOC_LS_RATIO_ONE ((q15_t)16384)
-#define FOC_LS_RATIO_MIN ((q15_t)8192)
 #define FOC_OL_FINAL_SPEED FOC_SPEED_Q15(STARTUP_FINAL_SPEED_RPM)
 #define FOC_OL_RAMP_TICKS FOC_TICKS(STARTUP_RAMP_TIME_S)
 /* Forced-speed step per slow tick in Q15.16, so the ramp time is exact. */
