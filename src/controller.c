@@ -575,6 +575,12 @@ static void hand_over(foc_ctrl_t *c, uint16_t theta_from)
     enter(c, FOC_STATE_RUN);
 }
 
+/* An alignment measure's ratio held within [0.5, 2) (Q14). */
+static q15_t measured_ratio(int32_t ratio_q14)
+{
+    return (ratio_q14 < FOC_RATIO_MIN_Q14) ? FOC_RATIO_MIN_Q14 : (ratio_q14 > 32767) ? 32767 : (q15_t)ratio_q14;
+}
+
 /* The end of the alignment: the rotor held still on the d axis with
  * STARTUP_ALIGN_CURRENT_A, so vd = Rs id (no EMF, no di/dt; the dead time
  * compensated).  The estimators' Rs becomes that measure, as a ratio to
@@ -583,12 +589,6 @@ static void hand_over(foc_ctrl_t *c, uint16_t theta_from)
  * its extra voltage drop as a back-EMF, and a stalled rotor as turning.
  * One sample of the fast step's 16-bit vd and id (the integrator is 32-bit,
  * which the slow step cannot read whole on a 16-bit core). */
-/* An alignment measure's ratio held within [0.5, 2) (Q14). */
-static q15_t measured_ratio(int32_t ratio_q14)
-{
-    return (ratio_q14 < FOC_RATIO_MIN_Q14) ? FOC_RATIO_MIN_Q14 : (ratio_q14 > 32767) ? 32767 : (q15_t)ratio_q14;
-}
-
 static void identify_rs(foc_ctrl_t *c)
 {
     const q15_t id = c->i_dq.d;
