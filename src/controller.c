@@ -183,28 +183,49 @@ static q15_t forced_vq(q15_t speed, q15_t id)
     return foc_add_q15(emf, coupling);
 }
 
-/* The alignment's inductance probe, period `c->lprobe` of
- * FOC_LPROBE_PERIODS (config.h), in place of the d PI's output: the
- * voltage that holds the alignment current (the PI's integrator in the
- * first period: its output carries the proportional part of any ripple,
+/* current_loop's frame: the angle it runs on. */
+#define FRAME_ESTIMATE 0u /* the estimate just made */
+#define FRAME_FORCED 1u   /* the start-up's forced angle (ALIGN, OPENLOOP) */
+#define FRAME_PROBE 2u    /* CATCH's inductance probe: the estimate at its */
+                          /* start turned at the caught speed (startup) */
+
+/* The inductance probe, period `c->lprobe` of FOC_LPROBE_PERIODS
+ * (config.h), in place of the d PI (and in CATCH of the q PI too), which
+ * it leaves as it was: the d voltage that holds the d current (the d PI's
+ * integrator: its output carries the proportional part of any ripple,
  * volts on a winding whose L is half the parameter's) stepped down by
- * FOC_LPROBE_DV, then up, then back; the lowest d current kept for
- * identify_ls.  The PI is held at that voltage (left to integrate the
- * dip, it comes out of a long probe volts off). */
-static q15_t l_probe_vd(foc_ctrl_t *c, q15_t v_max)
+ * FOC_LPROBE_DV, then up, then back.  Down takes the rotor held by the
+ * alignment current in ALIGN towards zero current, a turning rotor's
+ * -FOC_LPROBE_DI in CATCH away from it: the current keeps its sign, so
+ * the dead-time compensation its reference drives stays right.  The
+ * largest deviation from the reference (held meanwhile: current_loop)
+ * is kept for identify_ls: on d in ALIGN (a rotor still swinging on its
+ * alignment puts its back-EMF on q), in magnitude in CATCH, where the
+ * q voltage is held and the rotation turns the deviation, dV t / L, off
+ * the d axis (to second order in the angle turned). */
+static void l_probe(foc_ctrl_t *c, uint8_t frame, q15_t v_max)
 {
     const uint8_t k = c->lprobe;
-    if (k == 1u) {
-        c->current_ctrl.d_hold = (q15_t)(c->current_ctrl.pi_d.integ / 32768);
-        c->lprobe_min = c->i_dq.d;
-    } else if (c->i_dq.d < c->lprobe_min) {
-        c->lprobe_min = c->i_dq.d;
+    const q15_t dev_d = foc_sub_q15(c->i_dq.d, c->i_ref_slewed.d);
+    const q15_t dev = (frame == FRAME_FORCED) ? foc_abs_q15(dev_d)
+                                     : foc_mag_q15(dev_d, foc_sub_q15(c->i_dq.q, c->i_ref_slewed.q));
+    if (k == 1u || dev > c->lprobe_peak) {
+        c->lprobe_peak = dev;
     }
-    foc_pi_preset(&c->current_ctrl.pi_d, c->current_ctrl.d_hold);
-    const q15_t dv = (k <= FOC_LPROBE_N) ? (q15_t)-FOC_LPROBE_DV
-                     : (k <= 2u * FOC_LPROBE_N) ? FOC_LPROBE_DV : 0;
-    const q15_t vd = foc_add_q15(c->current_ctrl.d_hold, dv);
-    return (vd > v_max) ? v_max : (vd < (q15_t)-v_max) ? (q15_t)-v_max : vd;
+    const q15_t dv = (k <= FOC_LPROBE_N) ? (q15_t)-FOC_LPROBE_DV : (k <= 2u * FOC_LPROBE_N) ? FOC_LPROBE_DV : 0;
+    const q15_t vd = foc_add_q15((q15_t)(c->current_ctrl.pi_d.integ / 32768), dv);
+    c->v_dq.d = (vd > v_max) ? v_max : (vd < (q15_t)-v_max) ? (q15_t)-v_max : vd;
+}
+
+/* The fast step's count of the probe's periods, while the slow step asks
+ * for it (FOC_LPROBE_GO); back to 0 once it no longer does. */
+static inline void lprobe_count(foc_ctrl_t *c)
+{
+    if (c->lprobe_req != FOC_LPROBE_GO) {
+        c->lprobe = 0;
+    } else if (c->lprobe < FOC_LPROBE_DONE) {
+        c->lprobe++;
+    }
 }
 
 /* The current loop on the forced angle (start-up) or the estimate: every
@@ -212,24 +233,27 @@ static q15_t l_probe_vd(foc_ctrl_t *c, q15_t v_max)
  * (until the windings are shorted);
  * in the forced frame of the start-up the q axis is voltage-driven
  * (foc_cc_q_forced: damping).  The estimator runs on every period so that
- * it has converged by the hand-over. */
-static void current_loop(foc_ctrl_t *c, uint8_t forced)
+ * it has converged by the hand-over.  The inductance probe (l_probe) runs
+ * on the start-up's frame or the probe's, never the estimate's. */
+static void current_loop(foc_ctrl_t *c, uint8_t frame)
 {
     /* The slow step's references, stepped once per slow tick, approached
      * by FOC_IREF_STEP_BITS per period on the estimated angle: a torque
      * reversal spread over a slow tick does not make the current loop
      * overshoot. */
-    foc_dq_t step; /* the references' steps, for the current PIs */
-    step.d = (q15_t)FOC_SAT_BITS((int32_t)c->i_ref.d - c->i_ref_slewed.d, FOC_IREF_STEP_BITS);
-    if (forced != 0u) {
-        /* the start-up ramps its own (the PIs take its steps within the
-         * slew's); the forced q axis is voltage-driven */
-        step.q = 0;
-        c->i_ref_slewed = c->i_ref;
-    } else {
+    const uint8_t probing = (uint8_t)(frame != FRAME_ESTIMATE && c->lprobe != 0u &&
+                                      c->lprobe <= FOC_LPROBE_PERIODS);
+    foc_dq_t step = zero_dq; /* the references' steps, for the current PIs */
+    if (frame == FRAME_ESTIMATE) {
+        step.d = (q15_t)FOC_SAT_BITS((int32_t)c->i_ref.d - c->i_ref_slewed.d, FOC_IREF_STEP_BITS);
         step.q = (q15_t)FOC_SAT_BITS((int32_t)c->i_ref.q - c->i_ref_slewed.q, FOC_IREF_STEP_BITS);
         c->i_ref_slewed.d = (q15_t)(c->i_ref_slewed.d + step.d);
         c->i_ref_slewed.q = (q15_t)(c->i_ref_slewed.q + step.q);
+    } else if (probing == 0u) { /* (held in the probe: it measures from them) */
+        /* the start-up ramps its own (the PIs take its steps within the
+         * slew's); the forced q axis is voltage-driven */
+        step.d = (q15_t)FOC_SAT_BITS((int32_t)c->i_ref.d - c->i_ref_slewed.d, FOC_IREF_STEP_BITS);
+        c->i_ref_slewed = c->i_ref;
     }
     const foc_ab_t i_last = c->i_ab;
     c->i_ab = foc_cs_alphabeta(&c->current_sense, &c->samples, c->i_ab);
@@ -257,25 +281,27 @@ static void current_loop(foc_ctrl_t *c, uint8_t forced)
     foc_est_step(&c->est, &in);
     c->v_ab_prev = c->v_ab;
 
-    /* The angle of this sample: forced, or the estimate just made. */
-    const uint16_t theta = (forced != 0u) ? foc_startup_angle(&c->startup) : c->est.theta;
+    /* The angle of this sample: the estimate just made, or forced. */
+    const uint16_t theta =
+        (frame == FRAME_ESTIMATE) ? c->est.theta : foc_startup_angle(&c->startup);
     const foc_sincos_t sc = foc_sincos_q15(theta);
     c->i_dq = foc_park_q15(c->i_ab, sc);
     /* d first, with the whole voltage: AN1292's d-axis priority */
     const q15_t v_max = c->bus.v_max;
-    c->v_dq.d = foc_cc_d_axis(&c->current_ctrl, c->i_ref_slewed.d, c->i_dq.d, v_max, step.d);
-    if (forced != 0u) {
-        if (c->lprobe != 0u && c->lprobe <= FOC_LPROBE_PERIODS) {
-            c->v_dq.d = l_probe_vd(c, v_max);
-        }
-        /* the q swing current may use what the d current leaves */
-        c->v_dq.q = foc_cc_q_forced(&c->current_ctrl, forced_vq(c->startup.speed, c->i_ref_slewed.d), c->i_dq.q,
-                                    c->forced_iq_max, c->v_dq.d, v_max, c->est.speed);
+    if (probing != 0u) {
+        l_probe(c, frame, v_max);
     } else {
+        c->v_dq.d = foc_cc_d_axis(&c->current_ctrl, c->i_ref_slewed.d, c->i_dq.d, v_max, step.d);
+    }
+    if (frame == FRAME_ESTIMATE) {
         foc_cc_emf_feedforward(&c->current_ctrl, c->est.speed, FOC_EMF_PER_SPEED_MANT,
                                FOC_EMF_PER_SPEED_SHIFT, FOC_RS_ILIM_V);
         c->v_dq.q = foc_cc_q_axis(&c->current_ctrl, c->i_ref_slewed.q, c->i_dq.q, c->v_dq.d, v_max, step.q);
-    }
+    } else if (frame == FRAME_FORCED) {
+        /* the q swing current may use what the d current leaves */
+        c->v_dq.q = foc_cc_q_forced(&c->current_ctrl, forced_vq(c->startup.speed, c->i_ref_slewed.d), c->i_dq.q,
+                                    c->forced_iq_max, c->v_dq.d, v_max, c->est.speed);
+    } /* FRAME_PROBE: the q voltage held */
 
     const foc_sincos_t sc_v = foc_sincos_sum(sc, c->advance_sc);
     c->v_ab = foc_ipark_q15(c->v_dq, sc_v);
@@ -439,17 +465,28 @@ void foc_fast_step(foc_ctrl_t *c)
          * the forced speed here in OPENLOOP (one writer each) */
         if (c->state == FOC_STATE_OPENLOOP) {
             foc_startup_fast(&c->startup);
-        } else if (c->lprobe_req == 0u) {
-            c->lprobe = 0;
-        } else if (c->lprobe < FOC_LPROBE_DONE) {
-            c->lprobe++; /* the inductance probe, asked by the slow step */
+        } else {
+            lprobe_count(c);
         }
-        current_loop(c, 1u);
+        current_loop(c, FRAME_FORCED);
         break;
     case FOC_STATE_CATCH: {
         const uint8_t probe = (c->probe != 0u) ? catch_probe(c) : PROBE_LOOP;
+        lprobe_count(c);
         if (probe != PROBE_BUSY) {
-            current_loop(c, 0u);
+            uint8_t frame = FRAME_ESTIMATE;
+            if (c->lprobe != 0u && c->lprobe <= FOC_LPROBE_PERIODS) {
+                /* the inductance probe's frame: the estimate at its start
+                 * (one period on), turned at the speed CATCH found; the
+                 * estimate's own wobble, times the back-EMF in the held
+                 * voltage, would swamp the probe's step */
+                if (c->lprobe == 1u) {
+                    c->startup.theta32 = (uint32_t)c->est.theta << 16;
+                }
+                foc_startup_fast(&c->startup);
+                frame = FRAME_PROBE;
+            }
+            current_loop(c, frame);
         }
         if (probe == PROBE_LOOP_ENABLE) {
             foc_port_pwm_enable(); /* once the probe's duties are set */
@@ -461,7 +498,7 @@ void foc_fast_step(foc_ctrl_t *c)
     case FOC_STATE_BRAKE:
         /* (BRAKE: until the windings are shorted) */
         if (c->shorting == 0u) {
-            current_loop(c, 0u);
+            current_loop(c, FRAME_ESTIMATE);
         }
         break;
     default:
@@ -496,16 +533,91 @@ static void begin_start(foc_ctrl_t *c)
     }
 }
 
+/* An alignment measure's ratio held within [0.5, 2) (Q14). */
+static q15_t measured_ratio(int32_t ratio_q14)
+{
+    return (ratio_q14 < FOC_RATIO_MIN_Q14) ? FOC_RATIO_MIN_Q14 : (ratio_q14 > 32767) ? 32767 : (q15_t)ratio_q14;
+}
+
+/* The end of the alignment: the rotor held still on the d axis with
+ * STARTUP_ALIGN_CURRENT_A, so vd = Rs id (no EMF, no di/dt; the dead time
+ * compensated).  The estimators' Rs becomes that measure, as a ratio to
+ * MOTOR_RS_OHM within [0.5, 2): a winding whose resistance differs from
+ * the data sheet's (temperature, cables, tolerance) would otherwise show
+ * its extra voltage drop as a back-EMF, and a stalled rotor as turning.
+ * One sample of the fast step's 16-bit vd and id (the integrator is 32-bit,
+ * which the slow step cannot read whole on a 16-bit core). */
+static void identify_rs(foc_ctrl_t *c)
+{
+    const q15_t id = c->i_dq.d;
+    if (id < FOC_ALIGN_CURRENT / 2) {
+        return; /* not held: no measure */
+    }
+    const int32_t drop = (int32_t)foc_mul_q15_shift(id, FOC_RS_MANT, FOC_RS_SHIFT); /* Rs id */
+    const int32_t ratio = ((int32_t)c->v_dq.d * 16384) / ((drop > 0) ? drop : 1);
+    foc_est_set_rs(&c->est, measured_ratio(ratio));
+}
+
+/* The inductance probe's dip against the one the parameter's Ld gives
+ * (FOC_LPROBE_DI), less the winding's own decay over it (Rs T / 2, Rs
+ * the alignment's): Ld / MOTOR_LD_H, applied to both axes within
+ * [0.5, 2).  A wrong inductance fakes a speed from every torque step
+ * (dL / psi) diq/dt, which the speed loop turns back into current
+ * (docs/safety.md); every sensorless estimator takes the measure. */
+static void identify_ls(foc_ctrl_t *c)
+{
+    const int32_t dip = c->lprobe_peak;
+    if (foc_abs_q15(c->i_dq.d) < foc_abs_q15(c->i_ref.d) / 2 || dip <= 0) {
+        return; /* not held: no measure */
+    }
+    const int32_t ratio = ((int32_t)FOC_LPROBE_DI * 16384) / dip -
+                          ((FOC_LPROBE_RT_Q14 * (int32_t)c->est.rs_ratio) >> 14);
+    foc_est_set_ls(&c->est, measured_ratio(ratio));
+}
+
+/* The rotor caught: RUN at its speed, the probe's d current let go. */
+static void catch_run(foc_ctrl_t *c)
+{
+    c->lprobe_req = 0;
+    c->i_ref.d = 0;
+    foc_sc_preset(&c->speed_ctrl, c->est.est_speed, 0);
+    enter(c, FOC_STATE_RUN);
+}
+
 /* CATCH: zero current on the estimator's angle, so the bridge applies
  * the back-EMF of a rotor that turns and the estimator locks onto it.
  * From FOC_CATCH_TICKS on, a reliable estimate above the start-up minimum
  * is a rotor turning on its own: RUN at its speed, in its direction (the
- * speed loop then follows the command, through a reversal if need be).
+ * speed loop then follows the command, through a reversal if need be),
+ * after the inductance probe if it turns slowly enough for it
+ * (FOC_LPROBE_SPEED_MAX): the estimate, locked at zero current, is right
+ * whatever the inductance; the speed loop's current steps would not be.
+ * The probe holds -FOC_LPROBE_DI on d (no torque, the field weakened a
+ * little: a quarter of the alignment current, since -ALIGN would reverse
+ * a weak magnet's flux on a drone-like winding and upset the estimate) and runs
+ * once that current has settled, or is given up half a FOC_CATCH_TICKS
+ * after FOC_CATCH_MAX_TICKS.
  * An estimate that says "turning" but is not steady yet is given until
  * FOC_CATCH_MAX_TICKS: aligning into a turning rotor is what CATCH is
  * there to avoid.  Otherwise the normal start: alignment. */
 static void catch_tick(foc_ctrl_t *c)
 {
+    if (c->lprobe_req != 0u) {
+        if (c->lprobe_req < FOC_LPROBE_GO) {
+            const int32_t err = (int32_t)c->i_dq.d + FOC_LPROBE_DI;
+            c->lprobe_req = (err < FOC_LPROBE_DI / 8 && err > -FOC_LPROBE_DI / 8 &&
+                             foc_abs_q15(c->i_dq.q) < FOC_LPROBE_DI / 8)
+                                ? (uint8_t)(c->lprobe_req + 1u) : 1u;
+            c->startup.speed = c->est.speed; /* the probe's frame turns at it */
+            if (c->state_ticks >= FOC_CATCH_MAX_TICKS + FOC_CATCH_TICKS / 2u) {
+                catch_run(c); /* never settled: no measure */
+            }
+        } else if (c->lprobe == FOC_LPROBE_DONE) {
+            identify_ls(c);
+            catch_run(c);
+        }
+        return;
+    }
     foc_speed_stats_push(&c->speed_stats, c->est.est_speed);
     if (c->state_ticks < FOC_CATCH_TICKS) {
         return;
@@ -516,8 +628,12 @@ static void catch_tick(foc_ctrl_t *c)
         foc_speed_stats_reliable(&c->speed_stats, FOC_STARTUP_VARIANCE_THRESHOLD) &&
         foc_est_emf_consistent(&c->est, FOC_STALL_EMF_RATIO)) {
         c->direction = (mean < 0) ? (int8_t)-1 : (int8_t)1;
-        foc_sc_preset(&c->speed_ctrl, c->est.est_speed, 0);
-        enter(c, FOC_STATE_RUN);
+        if (foc_abs_q15(c->est.speed) <= FOC_LPROBE_SPEED_MAX) {
+            c->i_ref.d = (q15_t)-FOC_LPROBE_DI;
+            c->lprobe_req = 1;
+        } else {
+            catch_run(c);
+        }
         return;
     }
     if (turning != 0u && c->state_ticks < FOC_CATCH_MAX_TICKS) {
@@ -575,48 +691,6 @@ static void hand_over(foc_ctrl_t *c, uint16_t theta_from)
     enter(c, FOC_STATE_RUN);
 }
 
-/* An alignment measure's ratio held within [0.5, 2) (Q14). */
-static q15_t measured_ratio(int32_t ratio_q14)
-{
-    return (ratio_q14 < FOC_RATIO_MIN_Q14) ? FOC_RATIO_MIN_Q14 : (ratio_q14 > 32767) ? 32767 : (q15_t)ratio_q14;
-}
-
-/* The end of the alignment: the rotor held still on the d axis with
- * STARTUP_ALIGN_CURRENT_A, so vd = Rs id (no EMF, no di/dt; the dead time
- * compensated).  The estimators' Rs becomes that measure, as a ratio to
- * MOTOR_RS_OHM within [0.5, 2): a winding whose resistance differs from
- * the data sheet's (temperature, cables, tolerance) would otherwise show
- * its extra voltage drop as a back-EMF, and a stalled rotor as turning.
- * One sample of the fast step's 16-bit vd and id (the integrator is 32-bit,
- * which the slow step cannot read whole on a 16-bit core). */
-static void identify_rs(foc_ctrl_t *c)
-{
-    const q15_t id = c->i_dq.d;
-    if (id < FOC_ALIGN_CURRENT / 2) {
-        return; /* not held: no measure */
-    }
-    const int32_t drop = (int32_t)foc_mul_q15_shift(id, FOC_RS_MANT, FOC_RS_SHIFT); /* Rs id */
-    const int32_t ratio = ((int32_t)c->v_dq.d * 16384) / ((drop > 0) ? drop : 1);
-    foc_est_set_rs(&c->est, measured_ratio(ratio));
-}
-
-/* The inductance probe's dip against the one the parameter's Ld gives
- * (FOC_LPROBE_DI), less the winding's own decay over it (Rs T / 2, Rs
- * the alignment's): Ld / MOTOR_LD_H, applied to both axes within
- * [0.5, 2).  A wrong inductance fakes a speed from every torque step
- * (dL / psi) diq/dt, which the speed loop turns back into current
- * (docs/safety.md); every sensorless estimator takes the measure. */
-static void identify_ls(foc_ctrl_t *c)
-{
-    const int32_t dip = (int32_t)FOC_ALIGN_CURRENT - (int32_t)c->lprobe_min;
-    if (c->i_dq.d < FOC_ALIGN_CURRENT / 2 || dip <= 0) {
-        return; /* not held: no measure */
-    }
-    const int32_t ratio = ((int32_t)FOC_LPROBE_DI * 16384) / dip -
-                          ((FOC_LPROBE_RT_Q14 * (int32_t)c->est.rs_ratio) >> 14);
-    foc_est_set_ls(&c->est, measured_ratio(ratio));
-}
-
 static void startup_tick(foc_ctrl_t *c)
 {
     if (c->start_ticks >= FOC_STARTUP_TIMEOUT_TICKS) {
@@ -635,7 +709,7 @@ static void startup_tick(foc_ctrl_t *c)
             enter(c, FOC_STATE_OPENLOOP);
         } else if (foc_startup_align_tick(&c->startup) != 0u) {
             identify_rs(c);
-            c->lprobe_req = 1;
+            c->lprobe_req = FOC_LPROBE_GO;
             return;
         }
     } else {

@@ -11,7 +11,6 @@ void foc_cc_init(foc_current_ctrl_t *cc)
                 FOC_VOLTAGE_LIMIT);
     cc->pull_integ = 0;
     cc->ff_speed = 0;
-    cc->d_hold = 0;
 }
 
 void foc_cc_reset(foc_current_ctrl_t *cc)

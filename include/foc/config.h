@@ -529,18 +529,25 @@ FOC_STATIC_ASSERT(FOC_NORM_OK(FOC_SOBS_FF_X),
  * the Hurst075's 0.12 s alignment), per tick. */
 #define FOC_ALIGN_TURN_TICKS (FOC_ALIGN_HALF_TICKS / 12u > 0u ? FOC_ALIGN_HALF_TICKS / 12u : 1u)
 #define FOC_ALIGN_TURN_STEP32 ((int32_t)(1073741824L / (int32_t)FOC_ALIGN_TURN_TICKS + 1))
-/* The alignment's inductance probe (controller.c, identify_ls): with the
- * rotor held on d by the alignment current, the d PI is held and its
- * voltage stepped down by FOC_LPROBE_DV for FOC_LPROBE_N periods, then up
- * as long, so the current dips by about dV N Ts / Ld and comes back.
- * N: a quarter of the winding's time constant Ld / Rs (2 to 16 periods),
- * so that Rs bends the ramp little (its first-order share, Rs T / 2, is
- * taken off: FOC_LPROBE_RT_Q14); dV: a dip of a quarter of the
- * alignment current with the parameter's Ld (FOC_LPROBE_DI).  Two more
- * periods for the PWM's and the sample's lag; the state after the last
+/* The inductance probe (controller.c, l_probe, identify_ls): with the
+ * current held on d (ALIGN: the rotor by the alignment current; CATCH:
+ * -FOC_LPROBE_DI, the field weakened a little), both current PIs are held
+ * and the d voltage stepped down by FOC_LPROBE_DV for FOC_LPROBE_N
+ * periods, then up as long, so the current deviates by about
+ * dV N Ts / Ld and comes back.  N: the shortest probe whose step fits in
+ * the voltage the alignment current's Rs drop leaves (twice the
+ * parameter's Rs: the winding's may be), 2 to 16 periods: a turning rotor
+ * turns little during it, and Rs bends the ramp
+ * little (its first-order share, Rs T / 2, is taken off:
+ * FOC_LPROBE_RT_Q14); dV: a deviation of a quarter of the alignment
+ * current with the parameter's Ld (FOC_LPROBE_DI).  Two more periods for
+ * the PWM's and the sample's lag; the state after the last
  * (FOC_LPROBE_DONE) tells the slow step it is over. */
-#define FOC_LPROBE_N_D (MOTOR_LD_H / MOTOR_RS_OHM / FOC_TS_S / 4.0)
-#define FOC_LPROBE_N ((uint8_t)(FOC_LPROBE_N_D < 2.0 ? 2.0 : FOC_LPROBE_N_D > 16.0 ? 16.0 : FOC_LPROBE_N_D))
+#define FOC_LPROBE_V_ROOM_V                                                    \
+    (VOLTAGE_LIMIT_FRACTION * FOC_V_BASE_V - 2.0 * MOTOR_RS_OHM * STARTUP_ALIGN_CURRENT_A)
+#define FOC_LPROBE_N_D (MOTOR_LD_H * STARTUP_ALIGN_CURRENT_A / 4.0 / FOC_TS_S / FOC_LPROBE_V_ROOM_V)
+#define FOC_LPROBE_N                                                           \
+    ((uint8_t)(FOC_LPROBE_N_D < 2.0 ? 2.0 : FOC_LPROBE_N_D > 15.0 ? 16.0 : FOC_LPROBE_N_D + 0.999))
 #define FOC_LPROBE_T_S ((double)FOC_LPROBE_N * FOC_TS_S)
 #define FOC_LPROBE_DI_A (STARTUP_ALIGN_CURRENT_A / 4.0)
 #define FOC_LPROBE_DI FOC_I_Q15(FOC_LPROBE_DI_A)
@@ -549,6 +556,18 @@ FOC_STATIC_ASSERT(FOC_NORM_OK(FOC_SOBS_FF_X),
 #define FOC_LPROBE_RT_Q14 ((int32_t)(16384.0 * MOTOR_RS_OHM * FOC_LPROBE_T_S / (2.0 * MOTOR_LD_H) + 0.5))
 #define FOC_LPROBE_PERIODS ((uint8_t)(2u * FOC_LPROBE_N + 2u))
 #define FOC_LPROBE_DONE ((uint8_t)(FOC_LPROBE_PERIODS + 1u))
+/* The slow step's request (controller.h lprobe_req): the probe runs while
+ * it is FOC_LPROBE_GO.  ALIGN asks at once (its current is long settled);
+ * CATCH counts from 1 the slow ticks its hold current (-FOC_LPROBE_DI on
+ * d, 0 on q) has been within FOC_LPROBE_DI / 8 on both axes. */
+#define FOC_LPROBE_GO ((uint8_t)5u)
+/* CATCH probes a rotor turning at most 0.5 rad (electrical) per FOC_LPROBE_N
+ * periods: the deviation's magnitude is then within 1 % of dV t / L (the
+ * held voltages' own error, which rotation turns into current, stays small
+ * against dV too); a faster rotor keeps the inductance it has. */
+#define FOC_LPROBE_SPEED_MAX_RPM (0.5 * 60.0 / (6.283185307179586 * MOTOR_POLE_PAIRS * FOC_LPROBE_T_S))
+#define FOC_LPROBE_SPEED_MAX                                                   \
+    ((FOC_LPROBE_SPEED_MAX_RPM < SPEED_BASE_RPM) ? FOC_SPEED_Q15(FOC_LPROBE_SPEED_MAX_RPM) : (q15_t)32767)
 #define FOC_OL_FINAL_SPEED FOC_SPEED_Q15(STARTUP_FINAL_SPEED_RPM)
 #define FOC_OL_RAMP_TICKS FOC_TICKS(STARTUP_RAMP_TIME_S)
 /* Forced-speed step per slow tick in Q15.16, so the ramp time is exact. */

@@ -141,7 +141,8 @@ typedef struct {
     foc_dq_t i_ref_slewed;  /* [fast] i_ref approached by a step of */
                             /* FOC_IREF_STEP_BITS */
                             /* per period (equal to it in the forced */
-                            /* frame) */
+                            /* frame; held during the inductance */
+                            /* probe) */
     foc_dq_t v_dq;          /* [fast] voltage command, Q15 of the voltage */
                             /* base; field weakening reads its magnitude */
     foc_ab_t v_ab;          /* [fast] the same in the stator frame: */
@@ -153,11 +154,14 @@ typedef struct {
                             /* restart, 0 once done */
     uint8_t probe_first;    /* [fast] which sample of the probe's first */
                             /* short was kept (1, 2; 0: not yet) */
-    uint8_t lprobe_req;     /* [slow] 1: the alignment's inductance probe */
-                            /* is wanted (held until its result is read) */
+    uint8_t lprobe_req;     /* [slow] the inductance probe (ALIGN, CATCH) */
+                            /* is wanted: FOC_LPROBE_GO (held until its */
+                            /* result is read), below while its hold */
+                            /* current settles, 0 not */
     uint8_t lprobe;         /* [fast] its period (1..FOC_LPROBE_PERIODS), */
                             /* FOC_LPROBE_DONE once over, 0 when not asked; */
-                            /* the voltage it steps from: current_ctrl.d_hold */
+                            /* the voltage it steps from: the d PI's */
+                            /* integrator, left as it was */
     foc_protection_t protection; /* [slow] */
 
     foc_current_sense_t current_sense; /* [slow] starts a calibration in */
@@ -172,8 +176,11 @@ typedef struct {
                                        /* and owns the PLL's flux tracking */
                                        /* (flux_corr, 16-bit, read fast) */
     foc_startup_t startup;             /* [slow]; [fast] advances theta32 */
-                                       /* in OPENLOOP only (the slow step */
-                                       /* turns it in ALIGN only) */
+                                       /* in OPENLOOP and in CATCH's */
+                                       /* inductance probe only (the slow */
+                                       /* step turns it in ALIGN only, */
+                                       /* sets the speed CATCH's probe */
+                                       /* turns at before it runs) */
     foc_speed_stats_t speed_stats;     /* [slow] */
     foc_supervision_t sup;             /* [slow] */
 
@@ -193,8 +200,9 @@ typedef struct {
     uint16_t unreliable_ticks; /* [slow] stall detection counters */
     uint16_t emf_low_ticks;    /* [slow] */
     uint16_t state_ticks;   /* [slow] slow ticks spent in the present state */
-    q15_t lprobe_min;       /* [fast] the lowest d current during the */
-                            /* inductance probe (here: no padding) */
+    q15_t lprobe_peak;      /* [fast] the largest deviation of the current */
+                            /* from its reference during the inductance */
+                            /* probe (here: no padding) */
     struct foc_scope *scope; /* [init] NULL: none (debug outputs id, iq); */
                              /* the application attaches one after foc_init */
 } foc_ctrl_t;

@@ -22,8 +22,6 @@ typedef struct {
                       /* band (foc_cc_q_forced), Q30 of the voltage base */
     q15_t ff_speed;   /* the feedforward's filtered speed, Q15 of */
                       /* SPEED_BASE_RPM */
-    q15_t d_hold;     /* the d voltage the alignment's inductance probe */
-                      /* holds the d PI at and steps from (controller.c) */
 } foc_current_ctrl_t;
 
 /* Inside its band the pull's integral leaks away in 2^FOC_CC_PULL_LEAK_BITS

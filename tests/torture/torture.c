@@ -85,6 +85,12 @@ static double t_mech_s(double rpm)
 
 static double bound_calib_s(void) { return CALIB_TIME_S + 10.0 * SLOW_TS_S; }
 static double bound_start_s(void) { return STARTUP_TIMEOUT_S + 10.0 * SLOW_TS_S; }
+/* CATCH: its window (CATCH_TIME_S, at least 64 slow ticks), twice for an
+ * estimate not yet steady, and the inductance probe's settling */
+static double bound_catch_s(void)
+{
+    return 3.0 * fmax(CATCH_TIME_S, 64.0 * SLOW_TS_S) + 10.0 * SLOW_TS_S;
+}
 static double bound_stop_s(double rpm)
 {
     return fabs(rpm) / SPEED_RAMP_RPM_PER_S + t_mech_s(rpm) + 0.5;
@@ -520,6 +526,7 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
         case FOC_STATE_CALIB: bound = bound_calib_s(); break;
         case FOC_STATE_ALIGN:
         case FOC_STATE_OPENLOOP: bound = bound_start_s(); break;
+        case FOC_STATE_CATCH: bound = bound_catch_s(); break;
         case FOC_STATE_STOP:
         case FOC_STATE_BRAKE: bound = bound_stop_s(o->stop_from_rpm); break;
         default: break;
