@@ -776,9 +776,14 @@ static void stall_check(foc_ctrl_t *c)
         (uint8_t)(foc_speed_stats_reliable(&c->speed_stats, FOC_STALL_VARIANCE_THRESHOLD) &&
                   mean >= FOC_STARTUP_MIN_SPEED / 2);
     const uint8_t emf_ok = foc_est_emf_consistent(&c->est, FOC_STALL_EMF_RATIO);
-    c->unreliable_ticks = (reliable || !in_range) ? 0u : (uint16_t)(c->unreliable_ticks + 1u);
+    /* the statistics' count leaks (2 up, 1 down): the estimate of a rotor
+     * slipping poles looks steady for a moment each turn */
+    c->unreliable_ticks =
+        (!in_range) ? 0u
+        : reliable  ? (uint16_t)((c->unreliable_ticks != 0u) ? c->unreliable_ticks - 1u : 0u)
+                    : (uint16_t)(c->unreliable_ticks + 2u);
     c->emf_low_ticks = emf_ok ? 0u : (uint16_t)(c->emf_low_ticks + 1u);
-    if (c->unreliable_ticks >= STALL_TICKS || c->emf_low_ticks >= STALL_TICKS) {
+    if (c->unreliable_ticks >= 2u * STALL_TICKS || c->emf_low_ticks >= STALL_TICKS) {
         trip(c, (uint16_t)FOC_FAULT_SPEED_FEEDBACK);
     }
 }
