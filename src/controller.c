@@ -628,7 +628,7 @@ static void catch_tick(foc_ctrl_t *c)
         foc_speed_stats_reliable(&c->speed_stats, FOC_STARTUP_VARIANCE_THRESHOLD) &&
         foc_est_emf_consistent(&c->est, FOC_STALL_EMF_RATIO)) {
         c->direction = (mean < 0) ? (int8_t)-1 : (int8_t)1;
-        if (foc_abs_q15(c->est.speed) <= FOC_LPROBE_SPEED_MAX) {
+        if ((int32_t)foc_abs_q15(c->est.speed) <= FOC_LPROBE_SPEED_MAX) {
             c->i_ref.d = (q15_t)-FOC_LPROBE_DI;
             c->lprobe_req = 1;
         } else {

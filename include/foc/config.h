@@ -566,8 +566,8 @@ FOC_STATIC_ASSERT(FOC_NORM_OK(FOC_SOBS_FF_X),
  * held voltages' own error, which rotation turns into current, stays small
  * against dV too); a faster rotor keeps the inductance it has. */
 #define FOC_LPROBE_SPEED_MAX_RPM (0.5 * 60.0 / (6.283185307179586 * MOTOR_POLE_PAIRS * FOC_LPROBE_T_S))
-#define FOC_LPROBE_SPEED_MAX                                                   \
-    ((FOC_LPROBE_SPEED_MAX_RPM < SPEED_BASE_RPM) ? FOC_SPEED_Q15(FOC_LPROBE_SPEED_MAX_RPM) : (q15_t)32767)
+/* Q15 of SPEED_BASE_RPM in 32 bits: above 32767 where every speed qualifies. */
+#define FOC_LPROBE_SPEED_MAX ((int32_t)(FOC_LPROBE_SPEED_MAX_RPM * 32768.0 / SPEED_BASE_RPM))
 #define FOC_OL_FINAL_SPEED FOC_SPEED_Q15(STARTUP_FINAL_SPEED_RPM)
 #define FOC_OL_RAMP_TICKS FOC_TICKS(STARTUP_RAMP_TIME_S)
 /* Forced-speed step per slow tick in Q15.16, so the ramp time is exact. */
