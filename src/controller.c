@@ -217,6 +217,13 @@ static void l_probe(foc_ctrl_t *c, uint8_t frame, q15_t v_max)
     c->v_dq.d = (vd > v_max) ? v_max : (vd < (q15_t)-v_max) ? (q15_t)-v_max : vd;
 }
 
+/* 1 while the inductance probe drives the d voltage (its periods
+ * 1..FOC_LPROBE_PERIODS). */
+static inline uint8_t lprobe_running(const foc_ctrl_t *c)
+{
+    return (uint8_t)(c->lprobe != 0u && c->lprobe <= FOC_LPROBE_PERIODS);
+}
+
 /* The fast step's count of the probe's periods, while the slow step asks
  * for it (FOC_LPROBE_GO); back to 0 once it no longer does. */
 static inline void lprobe_count(foc_ctrl_t *c)
@@ -241,19 +248,19 @@ static void current_loop(foc_ctrl_t *c, uint8_t frame)
      * by FOC_IREF_STEP_BITS per period on the estimated angle: a torque
      * reversal spread over a slow tick does not make the current loop
      * overshoot. */
-    const uint8_t probing = (uint8_t)(frame != FRAME_ESTIMATE && c->lprobe != 0u &&
-                                      c->lprobe <= FOC_LPROBE_PERIODS);
+    const uint8_t probing = (uint8_t)(frame != FRAME_ESTIMATE && lprobe_running(c));
     foc_dq_t step = zero_dq; /* the references' steps, for the current PIs */
-    if (frame == FRAME_ESTIMATE) {
+    if (probing == 0u) { /* (held in the probe: it measures from them) */
         step.d = (q15_t)FOC_SAT_BITS((int32_t)c->i_ref.d - c->i_ref_slewed.d, FOC_IREF_STEP_BITS);
-        step.q = (q15_t)FOC_SAT_BITS((int32_t)c->i_ref.q - c->i_ref_slewed.q, FOC_IREF_STEP_BITS);
-        c->i_ref_slewed.d = (q15_t)(c->i_ref_slewed.d + step.d);
-        c->i_ref_slewed.q = (q15_t)(c->i_ref_slewed.q + step.q);
-    } else if (probing == 0u) { /* (held in the probe: it measures from them) */
-        /* the start-up ramps its own (the PIs take its steps within the
-         * slew's); the forced q axis is voltage-driven */
-        step.d = (q15_t)FOC_SAT_BITS((int32_t)c->i_ref.d - c->i_ref_slewed.d, FOC_IREF_STEP_BITS);
-        c->i_ref_slewed = c->i_ref;
+        if (frame == FRAME_ESTIMATE) {
+            step.q = (q15_t)FOC_SAT_BITS((int32_t)c->i_ref.q - c->i_ref_slewed.q, FOC_IREF_STEP_BITS);
+            c->i_ref_slewed.d = (q15_t)(c->i_ref_slewed.d + step.d);
+            c->i_ref_slewed.q = (q15_t)(c->i_ref_slewed.q + step.q);
+        } else {
+            /* the start-up ramps its own (the PIs take its steps within
+             * the slew's); the forced q axis is voltage-driven */
+            c->i_ref_slewed = c->i_ref;
+        }
     }
     const foc_ab_t i_last = c->i_ab;
     c->i_ab = foc_cs_alphabeta(&c->current_sense, &c->samples, c->i_ab);
@@ -475,7 +482,7 @@ void foc_fast_step(foc_ctrl_t *c)
         lprobe_count(c);
         if (probe != PROBE_BUSY) {
             uint8_t frame = FRAME_ESTIMATE;
-            if (c->lprobe != 0u && c->lprobe <= FOC_LPROBE_PERIODS) {
+            if (lprobe_running(c) != 0u) {
                 /* the inductance probe's frame: the estimate at its start
                  * (one period on), turned at the speed CATCH found; the
                  * estimate's own wobble, times the back-EMF in the held

@@ -535,12 +535,12 @@ FOC_STATIC_ASSERT(FOC_NORM_OK(FOC_SOBS_FF_X),
  * and the d voltage stepped down by FOC_LPROBE_DV for FOC_LPROBE_N
  * periods, then up as long, so the current deviates by about
  * dV N Ts / Ld and comes back.  N: the shortest probe whose step fits in
- * the voltage the alignment current's Rs drop leaves (twice the
- * parameter's Rs: the winding's may be), 2 to 16 periods: a turning rotor
- * turns little during it, and Rs bends the ramp
- * little (its first-order share, Rs T / 2, is taken off:
- * FOC_LPROBE_RT_Q14); dV: a deviation of a quarter of the alignment
- * current with the parameter's Ld (FOC_LPROBE_DI).  Two more periods for
+ * the voltage the alignment current's Rs drop leaves (FOC_LPROBE_V_ROOM_V,
+ * twice the parameter's Rs: the winding's may be), 2 to 16 periods: a
+ * turning rotor turns little during it, and Rs bends the ramp little (its
+ * first-order share, Rs T / 2, is taken off: FOC_LPROBE_RT_Q14); dV: a
+ * deviation of a quarter of the alignment current with the parameter's Ld
+ * (FOC_LPROBE_DI).  Two more periods for
  * the PWM's and the sample's lag; the state after the last
  * (FOC_LPROBE_DONE) tells the slow step it is over. */
 #define FOC_LPROBE_V_ROOM_V                                                    \
@@ -565,7 +565,7 @@ FOC_STATIC_ASSERT(FOC_NORM_OK(FOC_SOBS_FF_X),
  * periods: the deviation's magnitude is then within 1 % of dV t / L (the
  * held voltages' own error, which rotation turns into current, stays small
  * against dV too); a faster rotor keeps the inductance it has. */
-#define FOC_LPROBE_SPEED_MAX_RPM (0.5 * 60.0 / (6.283185307179586 * MOTOR_POLE_PAIRS * FOC_LPROBE_T_S))
+#define FOC_LPROBE_SPEED_MAX_RPM (0.5 * 60.0 / (2.0 * FOC_PI_D * MOTOR_POLE_PAIRS * FOC_LPROBE_T_S))
 /* Q15 of SPEED_BASE_RPM in 32 bits: above 32767 where every speed qualifies. */
 #define FOC_LPROBE_SPEED_MAX ((int32_t)(FOC_LPROBE_SPEED_MAX_RPM * 32768.0 / SPEED_BASE_RPM))
 #define FOC_OL_FINAL_SPEED FOC_SPEED_Q15(STARTUP_FINAL_SPEED_RPM)
@@ -700,8 +700,7 @@ FOC_STATIC_ASSERT(CALIB_TIME_S / FOC_SLOW_TS_S < 65535.0 &&
                   CALIB_TIME_S * PWM_FREQUENCY_HZ >= 1024.0,
                   "CALIB_TIME_S must cover at least 1024 PWM periods");
 FOC_STATIC_ASSERT(SPEED_FILTER_TIME_S >= 0.0, "SPEED_FILTER_TIME_S must be >= 0");
-FOC_STATIC_ASSERT(MOTOR_RS_OHM * STARTUP_ALIGN_CURRENT_A * 2.0 + FOC_LPROBE_DV_V <
-                      VOLTAGE_LIMIT_FRACTION * FOC_V_BASE_V,
+FOC_STATIC_ASSERT(FOC_LPROBE_DV_V < FOC_LPROBE_V_ROOM_V,
                   "the alignment's inductance probe needs more voltage than the bus "
                   "gives at STARTUP_ALIGN_CURRENT_A (MOTOR_LD_H, MOTOR_RS_OHM)");
 FOC_STATIC_ASSERT(2.0 * FOC_RS_PU < 32768.0, "MOTOR_RS_OHM too high for the per-unit format");
