@@ -62,6 +62,8 @@ void foc_est_set_rs(foc_estimator_t *est, q15_t ratio_q14)
         foc_pll_set_rs(&est->u.pll, ratio_q14);
     } else if (FOC_EST_BUILT(FOC_EST_FLUX) && est->kind == FOC_EST_FLUX) {
         foc_flux_set_rs(&est->u.flux, ratio_q14);
+    } else if (FOC_EST_BUILT(FOC_EST_LUENBERGER) && est->kind == FOC_EST_LUENBERGER) {
+        foc_luen_set_winding(&est->u.luenberger, ratio_q14, est->ls_ratio);
     }
 }
 
@@ -73,7 +75,7 @@ void foc_est_set_ls(foc_estimator_t *est, q15_t ratio_q14)
     } else if (FOC_EST_BUILT(FOC_EST_FLUX) && est->kind == FOC_EST_FLUX) {
         foc_flux_set_ls(&est->u.flux, ratio_q14);
     } else if (FOC_EST_BUILT(FOC_EST_LUENBERGER) && est->kind == FOC_EST_LUENBERGER) {
-        foc_luen_set_ls(&est->u.luenberger, ratio_q14);
+        foc_luen_set_winding(&est->u.luenberger, est->rs_ratio, ratio_q14);
     }
 }
 

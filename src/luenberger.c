@@ -92,7 +92,7 @@ void foc_luen_reset(foc_luenberger_t *l, uint16_t theta, q15_t speed, foc_ab_t i
     l->theta = theta;
     l->omega = speed;
     foc_lpf_init(&l->speed, speed);
-    foc_luen_set_ls(l, FOC_RATIO_ONE_Q14);
+    foc_luen_set_winding(l, FOC_RATIO_ONE_Q14, FOC_RATIO_ONE_Q14);
 }
 
 /* One axis of the observer: predicts the current from the last period's
@@ -117,13 +117,18 @@ static q15_t over_ratio(int32_t c, int32_t ratio_q14)
     return foc_sat_q15(c * 16384 / ratio_q14);
 }
 
-void foc_luen_set_ls(foc_luenberger_t *l, q15_t ratio_q14)
+void foc_luen_set_winding(foc_luenberger_t *l, q15_t rs_ratio_q14, q15_t ls_ratio_q14)
 {
-    const int32_t r = (ratio_q14 < FOC_LUEN_RATIO_MIN)   ? FOC_LUEN_RATIO_MIN
-                      : (ratio_q14 > FOC_LUEN_RATIO_MAX) ? FOC_LUEN_RATIO_MAX
-                                                         : ratio_q14;
-    l->c1 = over_ratio(FOC_LUEN_C1, r);
-    l->c2 = foc_sat_q15((int32_t)FOC_LUEN_C2 - FOC_LUEN_C2X + over_ratio(FOC_LUEN_C2X, r));
+    const int32_t r = (ls_ratio_q14 < FOC_LUEN_RATIO_MIN)   ? FOC_LUEN_RATIO_MIN
+                      : (ls_ratio_q14 > FOC_LUEN_RATIO_MAX) ? FOC_LUEN_RATIO_MAX
+                                                            : ls_ratio_q14;
+    /* Rs T/Ls as a ratio to the parameters' (Q14), within its formats */
+    const int32_t x = (int32_t)rs_ratio_q14 * 16384 / r;
+    const int32_t x_held = (x < FOC_LUEN_X_RATIO_MIN)   ? FOC_LUEN_X_RATIO_MIN
+                           : (x > FOC_LUEN_X_RATIO_MAX) ? FOC_LUEN_X_RATIO_MAX
+                                                        : x;
+    l->c1 = foc_sat_q15(((int32_t)FOC_LUEN_C1 * x_held) >> 14);
+    l->c2 = foc_sat_q15((int32_t)FOC_LUEN_C2 - FOC_LUEN_C2X + (((int32_t)FOC_LUEN_C2X * x_held) >> 14));
     l->c3 = over_ratio(FOC_LUEN_C3, r);
     l->c4 = foc_sat_q15(((int32_t)FOC_LUEN_C4 * r) >> 14);
     l->c5 = over_ratio(FOC_LUEN_C5, r);

@@ -278,8 +278,9 @@
 #define FOC_LUEN_F1_LOG2 ((uint8_t)(FOC_GAIN_SHIFT((double)LUENBERGER_F1) - 1))
 #define FOC_LUEN_F2_LOG2 ((uint8_t)(FOC_GAIN_SHIFT((double)LUENBERGER_F2) - 1))
 /* The alignment's Ls ratio r (controller.c identify_ls) moves the model to
- * the measured winding (luenberger.c foc_luen_set_ls): C1, C3, C5 (Rs T/Ls,
- * T/Ls) over r, C2's share F1 Rs T/Ls (FOC_LUEN_C2X) over r, C4 (K2 =
+ * the measured winding (luenberger.c foc_luen_set_winding): C3, C5 (T/Ls)
+ * over r, C1 (Rs T/Ls) and C2's share F1 Rs T/Ls (FOC_LUEN_C2X) times the
+ * measured Rs's ratio over r (below), C4 (K2 =
  * Ls wo^2 from tune.py) times r, so that the observer keeps the poles it
  * was designed with.  r is held where every constant and sum keeps its
  * format: 1/r at most FOC_LUEN_INV_R_MAX_D (C1, C3, C5 below 32767, the
@@ -299,6 +300,18 @@
                    (65535.0 - 1.5 * LUENBERGER_F2) / FOC_LUEN_C4_D)
 #define FOC_LUEN_RATIO_MIN ((q15_t)(16384.0 / FOC_LUEN_INV_R_MAX_D + 1.0))
 #define FOC_LUEN_RATIO_MAX ((q15_t)(FOC_LUEN_R_MAX_D >= 2.0 ? 32767.0 : 16384.0 * FOC_LUEN_R_MAX_D))
+/* The alignment's Rs ratio moves C1 and C2's share with Rs T/Ls: their
+ * ratio x = rs / r (Q14) is held within [1/4, FOC_LUEN_INV_R_MAX_D] (Rs
+ * at half and Ls at twice the parameters' down to 1/4; the same ceiling
+ * as 1/r, so C1 and C2 keep their formats). */
+#define FOC_LUEN_X_RATIO_MIN_D 0.25
+#define FOC_LUEN_X_RATIO_MIN ((q15_t)(16384.0 * FOC_LUEN_X_RATIO_MIN_D))
+#define FOC_LUEN_X_RATIO_MAX ((q15_t)FOC_LUEN_MIN_D(32767.0, 16384.0 * FOC_LUEN_INV_R_MAX_D))
+/* The current update's sum of |constants| (below 2^16) with C1 and C2
+ * at the ratio x and C3, C5 at the largest 1/r. */
+#define FOC_LUEN_SUM_AT_X_D(x)                                                 \
+    (LUENBERGER_F1 + FOC_LUEN_C1_D * (x) - FOC_LUEN_C2_D + FOC_LUEN_C2X_D * (1.0 - (x)) + \
+     (FOC_LUEN_C3_D + FOC_LUEN_C5_D) * FOC_LUEN_INV_R_MAX_D)
 /* Observer error dynamics per axis (rotation aside): x = (current error
  * after correction, EMF error), x(k+1) = M x(k) with
  * det M = (1 + K1 T)(1 - G) and trace M = det M + 1 - K2 T B. */
@@ -351,6 +364,10 @@ FOC_STATIC_ASSERT(1.5 * LUENBERGER_F2 + FOC_LUEN_C4_D < 65535.0,
                   "EMF update could overflow 32 bits");
 FOC_STATIC_ASSERT(FOC_LUEN_INV_R_MAX_D >= 1.0 && FOC_LUEN_R_MAX_D >= 1.0,
                   "the Luenberger observer's constants leave no room for the measured Ls");
+FOC_STATIC_ASSERT(FOC_LUEN_SUM_AT_X_D(FOC_LUEN_X_RATIO_MIN_D) < 65535.0 &&
+                  FOC_LUEN_SUM_AT_X_D(FOC_LUEN_INV_R_MAX_D) < 65535.0 &&
+                  FOC_LUEN_C2_D - FOC_LUEN_C2X_D * (1.0 - FOC_LUEN_X_RATIO_MIN_D) > -32767.0,
+                  "the Luenberger observer's constants leave no room for the measured Rs");
 FOC_STATIC_ASSERT(FOC_LUEN_C6_D < 32767.0,
                   "SPEED_BASE_RPM x MOTOR_POLE_PAIRS too high for PWM_FREQUENCY_HZ "
                   "(Luenberger observer: over 0.5 rad per period at base speed)");

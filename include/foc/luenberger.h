@@ -107,7 +107,7 @@ typedef struct {
     q15_t omega;           /* PLL speed (unfiltered), Q15 */
     foc_lpf_q15_t speed;   /* output: filtered speed, Q15 */
     q15_t c1, c2, c3, c4, c5; /* [slow] the model's constants for the */
-                           /* measured Ls (FOC_LUEN_C1..C5 nominal) */
+                           /* measured Rs, Ls (FOC_LUEN_C1..C5 nominal) */
 } foc_luenberger_t;
 
 /* Restarts from angle `theta` and speed `speed` with the present current
@@ -116,9 +116,12 @@ typedef struct {
  * (the nominal Ls). */
 void foc_luen_reset(foc_luenberger_t *l, uint16_t theta, q15_t speed, foc_ab_t i_now);
 
-/* Ls as a ratio to MOTOR_L (mean of Ld, Lq), Q14 (the alignment's measure),
- * held within the constants' formats (config.h FOC_LUEN_RATIO_MIN/MAX). */
-void foc_luen_set_ls(foc_luenberger_t *l, q15_t ratio_q14);
+/* Rs and Ls as ratios to MOTOR_RS_OHM and MOTOR_L (mean of Ld, Lq), Q14
+ * (the alignment's measures), held within the constants' formats
+ * (config.h FOC_LUEN_RATIO_MIN/MAX, FOC_LUEN_X_RATIO_MIN/MAX).  An Rs
+ * the model does not know shows its extra drop as a back-EMF: a stalled
+ * rotor's current would look like a turning one's. */
+void foc_luen_set_winding(foc_luenberger_t *l, q15_t rs_ratio_q14, q15_t ls_ratio_q14);
 
 /* One PWM period; `v_last` is the voltage applied during the period that
  * ended at this sample, `i_now` the current just sampled. */
