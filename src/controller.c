@@ -264,6 +264,13 @@ static void current_loop(foc_ctrl_t *c, uint8_t frame)
     }
     const foc_ab_t i_last = c->i_ab;
     c->i_ab = foc_cs_alphabeta(&c->current_sense, &c->samples, c->i_ab);
+    /* each square <= 2^30: the sum fits 32 bits unsigned */
+    if ((uint32_t)((int32_t)c->i_ab.alpha * c->i_ab.alpha) +
+            (uint32_t)((int32_t)c->i_ab.beta * c->i_ab.beta) >
+        FOC_CURRENT_TRIP_SQ_Q30) {
+        trip(c, (uint16_t)FOC_FAULT_OVERCURRENT); /* the current lost */
+        return;
+    }
 
     /* The voltage applied in the period that just ended was computed two
      * steps ago (the PWM unit applies duties one period late), plus the

@@ -127,6 +127,19 @@
 #define CURRENT_REF_MARGIN 0.10
 #endif
 #define FOC_CURRENT_LIMIT FOC_I_Q15(CURRENT_LIMIT_A * (1.0 - CURRENT_REF_MARGIN))
+/* Where the current loop has lost the current (an estimate gone wrong, a
+ * plant far from the parameters), the fast step trips OVERCURRENT on the
+ * sampled current vector's amplitude above CURRENT_LIMIT_A x (1 +
+ * CURRENT_TRIP_MARGIN), before the peak reaches CURRENT_LIMIT_A + 5 %: the
+ * regulated currents stay CURRENT_REF_MARGIN below the limit, so a run
+ * under control never reaches it (docs/safety.md).  Compared squared,
+ * Q30 (no square root). */
+#ifndef CURRENT_TRIP_MARGIN
+#define CURRENT_TRIP_MARGIN 0.02
+#endif
+#define FOC_CURRENT_TRIP_PU (CURRENT_LIMIT_A * (1.0 + CURRENT_TRIP_MARGIN) / FOC_I_BASE_A)
+#define FOC_CURRENT_TRIP_SQ_Q30                                                \
+    ((uint32_t)(FOC_CURRENT_TRIP_PU * FOC_CURRENT_TRIP_PU * 1073741824.0))
 /* The fast step's slew of the current references.  The estimators
  * subtract L di/dt from the measured voltage: with the plant's inductance
  * off by half (the envelope of docs/safety.md), a current changing at
@@ -671,6 +684,10 @@ FOC_STATIC_ASSERT(FOC_NORM_OK(FOC_SOBS_FF_X),
 /* ------------------------------------------------------------ checks -- */
 FOC_STATIC_ASSERT(MOTOR_POLE_PAIRS >= 1 && MOTOR_POLE_PAIRS <= 64,
                   "MOTOR_POLE_PAIRS must be 1..64");
+FOC_STATIC_ASSERT(CURRENT_TRIP_MARGIN > 0.0 && CURRENT_TRIP_MARGIN < 0.05 &&
+                  CURRENT_LIMIT_A * (1.0 + CURRENT_TRIP_MARGIN) < BOARD_CURRENT_FULL_SCALE_A,
+                  "CURRENT_TRIP_MARGIN within (0, 5 %) and its trip level below "
+                  "BOARD_CURRENT_FULL_SCALE_A");
 FOC_STATIC_ASSERT(CURRENT_LIMIT_A > 0.0 && CURRENT_LIMIT_A < BOARD_CURRENT_FULL_SCALE_A,
                   "CURRENT_LIMIT_A must be below BOARD_CURRENT_FULL_SCALE_A");
 FOC_STATIC_ASSERT(BOARD_VDC_NOMINAL_V < BOARD_VDC_FULL_SCALE_V,

@@ -7,7 +7,10 @@
  *                    samples -> Clarke/Park -> estimator -> current PI ->
  *                    voltage limit -> inverse Park -> bus compensation ->
  *                    SVM -> duties for the next period.  Also checks the
- *                    hardware over-current latch every period.
+ *                    hardware over-current latch every period, and
+ *                    the sampled current against its trip level
+ *                    (config.h FOC_CURRENT_TRIP_SQ_Q30) wherever the
+ *                    current loop runs.
  *   foc_slow_step()  every CONTROL_SLOW_DIVIDER periods, lower priority:
  *                    bus filter, protection, speed ramp and PI, field
  *                    weakening, start-up sequencing, stall detection, the
@@ -119,9 +122,9 @@ typedef struct {
 
 typedef struct {
     foc_state_t state;      /* [slow]; the fast step sets FAULT on an */
-                            /* over-current latch (then the slow step only */
-                            /* acknowledges) */
-    foc_faults_t faults;    /* [slow], [fast] on an over-current latch: */
+                            /* over-current, latched or sampled (then the */
+                            /* slow step only acknowledges) */
+    foc_faults_t faults;    /* [slow], [fast] on an over-current: */
                             /* raised in the same period, the slow step */
                             /* merges and clears only in FAULT */
     foc_requests_t req;     /* [cmd]; the slow step clears the one-shots */

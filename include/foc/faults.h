@@ -10,7 +10,8 @@
 
 typedef enum {
     FOC_FAULT_NONE = 0,
-    FOC_FAULT_OVERCURRENT = 1u << 0,    /* hardware fault input */
+    FOC_FAULT_OVERCURRENT = 1u << 0,    /* hardware fault input, or the */
+                                        /* sampled current beyond its trip */
     FOC_FAULT_OVERVOLTAGE = 1u << 1,
     FOC_FAULT_UNDERVOLTAGE = 1u << 2,
     FOC_FAULT_OVERTEMP = 1u << 3,

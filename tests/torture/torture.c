@@ -476,7 +476,10 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
     }
     if (r->vdc_v >= 0.97 * OVERVOLTAGE_V) o->last_ov_t = t;
     if (r->vdc_v <= 1.03 * UNDERVOLTAGE_V) o->last_uv_t = t;
-    if (ipk >= 0.97 * BOARD_CURRENT_FULL_SCALE_A) o->last_oc_t = t;
+    /* an over-current's cause: the hardware trip's level, or the current
+     * vector beyond CURRENT_LIMIT_A (the firmware's own trip, a little
+     * above it: a current the loop no longer holds) */
+    if (ipk >= 0.97 * BOARD_CURRENT_FULL_SCALE_A || imag >= CURRENT_LIMIT_A) o->last_oc_t = t;
     /* the estimate far from the truth: a reason to trip, not yet a
      * violation when the controller does not (rule 3 judges the angle) */
     if ((st == FOC_STATE_RUN || st == FOC_STATE_OPENLOOP) &&
