@@ -862,9 +862,14 @@ static void run_tick(foc_ctrl_t *c)
         c->reversal_speed = foc_abs_q15(c->est.speed);
         speed_loop(c, target);
     }
+    /* the follow check on the command, also through a reversal's ramp
+     * down (target 0): at the current limit there the speed must move
+     * toward the new direction, or the estimate is stuck on a rotor that
+     * has stopped (a winding resistance the estimator does not know shows
+     * its drop as a back-EMF) */
     const uint16_t faults =
         (uint16_t)(foc_sup_overspeed(&c->sup, c->est.speed) |
-                   foc_sup_follow(&c->sup, target, c->est.speed, c->i_ref.q));
+                   foc_sup_follow(&c->sup, c->req.speed, c->est.speed, c->i_ref.q));
     if (faults != 0u) {
         trip(c, faults);
         return;

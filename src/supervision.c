@@ -55,11 +55,13 @@ uint16_t foc_sup_overspeed(foc_supervision_t *s, q15_t speed)
 uint16_t foc_sup_follow(foc_supervision_t *s, q15_t command, q15_t speed, q15_t iq_ref)
 {
     const q15_t cmd = foc_abs_q15(command);
-    /* at the limit: within 1/8 of the whole current limit, not of what
-     * field weakening leaves (a rotor held by the voltage settles at the
-     * speed it can reach) */
+    /* at the limit, pushing toward the command: within 1/8 of the whole
+     * current limit, not of what field weakening leaves (a rotor held by
+     * the voltage settles at the speed it can reach); in a reversal's
+     * ramp down the loop may still push the old way */
     const uint8_t limited =
-        (uint8_t)((int32_t)foc_abs_q15(iq_ref) * 8 >= (int32_t)FOC_CURRENT_LIMIT * 7);
+        (uint8_t)((int32_t)foc_abs_q15(iq_ref) * 8 >= (int32_t)FOC_CURRENT_LIMIT * 7 &&
+                  (iq_ref < 0) == (command < 0));
     /* behind: below half the command, or turning the other way */
     const uint8_t behind =
         (uint8_t)(cmd != 0 && ((int32_t)foc_abs_q15(speed) * 2 < (int32_t)cmd ||
