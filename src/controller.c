@@ -838,9 +838,7 @@ static void run_tick(foc_ctrl_t *c)
         }
     }
     /* start_ticks, unused in RUN, times a reversal's ramp down */
-    q15_t target = c->req.speed;
     if (reversing(c)) {
-        target = 0;
         speed_loop(c, 0);
         if (foc_abs_q15(c->est.speed) <= (q15_t)(FOC_STARTUP_MIN_SPEED / 2)) {
             begin_start(c);
@@ -860,10 +858,10 @@ static void run_tick(foc_ctrl_t *c)
     } else {
         c->start_ticks = 0;
         c->reversal_speed = foc_abs_q15(c->est.speed);
-        speed_loop(c, target);
+        speed_loop(c, c->req.speed);
     }
     /* the follow check on the command, also through a reversal's ramp
-     * down (target 0): at the current limit there the speed must move
+     * down (its target 0): at the current limit there the speed must move
      * toward the new direction, or the estimate is stuck on a rotor that
      * has stopped (a winding resistance the estimator does not know shows
      * its drop as a back-EMF) */
