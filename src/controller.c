@@ -502,8 +502,10 @@ void foc_fast_step(foc_ctrl_t *c)
             }
             current_loop(c, frame);
         }
-        if (probe == PROBE_LOOP_ENABLE) {
-            foc_port_pwm_enable(); /* once the probe's duties are set */
+        if (probe == PROBE_LOOP_ENABLE && c->state == FOC_STATE_CATCH) {
+            /* once the probe's duties are set (not after the current
+             * loop's over-current trip) */
+            foc_port_pwm_enable();
         }
         break;
     }
