@@ -117,18 +117,21 @@ static q15_t over_ratio(int32_t c, int32_t ratio_q14)
     return foc_sat_q15(c * 16384 / ratio_q14);
 }
 
+/* x held within [lo, hi]. */
+static int32_t held(int32_t x, int32_t lo, int32_t hi)
+{
+    return (x < lo) ? lo : (x > hi) ? hi : x;
+}
+
 void foc_luen_set_winding(foc_luenberger_t *l, q15_t rs_ratio_q14, q15_t ls_ratio_q14)
 {
-    const int32_t r = (ls_ratio_q14 < FOC_LUEN_RATIO_MIN)   ? FOC_LUEN_RATIO_MIN
-                      : (ls_ratio_q14 > FOC_LUEN_RATIO_MAX) ? FOC_LUEN_RATIO_MAX
-                                                            : ls_ratio_q14;
+    const int32_t r = held(ls_ratio_q14, FOC_LUEN_RATIO_MIN, FOC_LUEN_RATIO_MAX);
     /* Rs T/Ls as a ratio to the parameters' (Q14), within its formats */
-    const int32_t x = (int32_t)rs_ratio_q14 * 16384 / r;
-    const int32_t x_held = (x < FOC_LUEN_X_RATIO_MIN)   ? FOC_LUEN_X_RATIO_MIN
-                           : (x > FOC_LUEN_X_RATIO_MAX) ? FOC_LUEN_X_RATIO_MAX
-                                                        : x;
+    const int32_t x_held =
+        held((int32_t)rs_ratio_q14 * 16384 / r, FOC_LUEN_X_RATIO_MIN, FOC_LUEN_X_RATIO_MAX);
     l->c1 = foc_sat_q15(((int32_t)FOC_LUEN_C1 * x_held) >> 14);
-    l->c2 = foc_sat_q15((int32_t)FOC_LUEN_C2 - FOC_LUEN_C2X + (((int32_t)FOC_LUEN_C2X * x_held) >> 14));
+    l->c2 = foc_sat_q15((int32_t)FOC_LUEN_C2 - FOC_LUEN_C2X +
+                        (((int32_t)FOC_LUEN_C2X * x_held) >> 14));
     l->c3 = over_ratio(FOC_LUEN_C3, r);
     l->c4 = foc_sat_q15(((int32_t)FOC_LUEN_C4 * r) >> 14);
     l->c5 = over_ratio(FOC_LUEN_C5, r);

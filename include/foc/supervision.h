@@ -58,8 +58,9 @@ uint16_t foc_sup_overspeed(foc_supervision_t *s, q15_t speed);
 
 /* SPEED_FEEDBACK when, commanded `command`, the speed loop's output
  * `iq_ref` sits at the current limit toward the command's direction (the
- * whole FOC_CURRENT_LIMIT, not what field weakening leaves of it) while `speed` stays below half the
- * command without gaining on it for the window of that command. */
+ * whole FOC_CURRENT_LIMIT, not what field weakening leaves of it) while
+ * `speed` stays below half the command without gaining on it for the
+ * window of that command. */
 uint16_t foc_sup_follow(foc_supervision_t *s, q15_t command, q15_t speed, q15_t iq_ref);
 
 #endif /* FOC_SUPERVISION_H */
