@@ -137,6 +137,7 @@ void foc_init(foc_ctrl_t *c)
     c->opt.sensored_start = 0;
     c->opt.deadtime_comp = (uint8_t)(DEADTIME_COMPENSATION != 0);
     c->opt.fault_brake = (uint8_t)(FAULT_BRAKE != 0);
+    c->opt.min_speed = FOC_SENSORLESS_MIN_SPEED;
     foc_faults_clear(&c->faults);
     c->i_ab = zero_ab;
     c->i_dq = zero_dq;
@@ -1043,10 +1044,14 @@ void foc_cmd_ack(foc_ctrl_t *c)
 
 void foc_cmd_speed(foc_ctrl_t *c, q15_t speed)
 {
-    /* never beyond the motor's maximum speed, whatever is asked */
-    c->req.speed = (speed > FOC_MAX_SPEED)    ? FOC_MAX_SPEED
-                   : (speed < -FOC_MAX_SPEED) ? (q15_t)-FOC_MAX_SPEED
-                                              : speed;
+    /* never beyond the motor's maximum speed, whatever is asked, and
+     * without a sensor not below the lowest speed the estimate holds */
+    const q15_t lowest = (c->est.kind == FOC_EST_SENSORED) ? 0 : c->opt.min_speed;
+    c->req.speed = (speed > FOC_MAX_SPEED)                  ? FOC_MAX_SPEED
+                   : (speed < -FOC_MAX_SPEED)               ? (q15_t)-FOC_MAX_SPEED
+                   : (speed > 0 && speed < lowest)          ? lowest
+                   : (speed < 0 && speed > (q15_t)-lowest)  ? (q15_t)-lowest
+                                                            : speed;
 }
 
 const char *foc_state_name(foc_state_t s)

@@ -176,6 +176,10 @@
                                              /* estimate, not below */
                                              /* STARTUP_MIN_SPEED_RPM), then */
                                              /* turns the outputs off */
+/* Sensorless, a speed command between 0 and STARTUP_MIN_SPEED_RPM is
+ * raised to it, sign kept (below it the estimates drift on a winding off
+ * its parameters).  Define SENSORLESS_MIN_SPEED_RPM (0 .. max speed, 0: no
+ * floor) for another floor: docs/safety.md. */
 
 /* ------------------------------------------------------------- start-up -- */
 /* ALIGN: the current rises to STARTUP_ALIGN_CURRENT_A in a first half of

@@ -841,6 +841,17 @@ FOC_STATIC_ASSERT(FOC_PROBE_SPACING * FOC_DTHETA_AT_BASE * MOTOR_MAX_SPEED_RPM *
                   "the overspeed limit");
 /* The speed command is clamped to +-MOTOR_MAX_SPEED_RPM. */
 #define FOC_MAX_SPEED FOC_SPEED_Q15(MOTOR_MAX_SPEED_RPM)
+/* A sensorless command below SENSORLESS_MIN_SPEED_RPM (not 0) is raised to
+ * it, sign kept.  By default the lowest speed the estimators carry the
+ * loop at (STARTUP_MIN_SPEED_RPM, also where STOP leaves the rotor):
+ * below it a dead time or a resistance off by the campaign's envelope is
+ * a large part of the back-EMF, and the estimates drift or limit-cycle
+ * unseen (docs/safety.md).  0 lets every command through, for a motor
+ * whose parameters are known well. */
+#ifndef SENSORLESS_MIN_SPEED_RPM
+#define SENSORLESS_MIN_SPEED_RPM STARTUP_MIN_SPEED_RPM
+#endif
+#define FOC_SENSORLESS_MIN_SPEED FOC_SPEED_Q15(SENSORLESS_MIN_SPEED_RPM)
 #define FOC_OVERSPEED FOC_SPEED_Q15(MOTOR_MAX_SPEED_RPM * (1.0 + OVERSPEED_MARGIN))
 #define FOC_OVERSPEED_TICKS FOC_TICKS(0.002)
 /* I2t: (I / I_rated)^2, Q20 (1.0 = rated), from the Q15 sum of squares of
@@ -917,5 +928,7 @@ FOC_STATIC_ASSERT(OVERSPEED_MARGIN > 0.0 &&
                   "OVERSPEED_MARGIN must be > 0 with (1 + margin) x max speed below "
                   "SPEED_BASE_RPM");
 FOC_STATIC_ASSERT(FOC_RAMP_DOWN_TICKS < 65000, "SPEED_RAMP_RPM_PER_S too slow");
+FOC_STATIC_ASSERT(SENSORLESS_MIN_SPEED_RPM >= 0.0 && SENSORLESS_MIN_SPEED_RPM <= MOTOR_MAX_SPEED_RPM,
+                  "SENSORLESS_MIN_SPEED_RPM must be in [0, MOTOR_MAX_SPEED_RPM]");
 
 #endif /* FOC_CONFIG_H */

@@ -118,6 +118,8 @@ typedef struct {
     uint8_t deadtime_comp;  /* DEADTIME_COMPENSATION (deadtime.h) */
     uint8_t fault_brake;    /* FAULT_BRAKE: a fault shorts the windings */
                             /* (below the safe speed, not for over-current) */
+    q15_t min_speed;        /* SENSORLESS_MIN_SPEED_RPM, Q15 of the speed */
+                            /* base: sensorless commands raised to it */
 } foc_options_t;
 
 typedef struct {

@@ -183,6 +183,10 @@ static void check_invariants(const foc_ctrl_t *c)
     if (c->req.speed > FOC_MAX_SPEED || c->req.speed < -FOC_MAX_SPEED) {
         fail("speed command beyond MOTOR_MAX_SPEED_RPM", period_no);
     }
+    if (c->est.kind != FOC_EST_SENSORED && c->req.speed != 0 &&
+        foc_abs_q15(c->req.speed) < c->opt.min_speed) {
+        fail("sensorless speed command below SENSORLESS_MIN_SPEED_RPM", period_no);
+    }
 }
 
 static q15_t overvoltage_trip(const foc_ctrl_t *c)

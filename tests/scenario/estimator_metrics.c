@@ -35,6 +35,9 @@ void est_measure(foc_est_kind_t kind, const est_case_t *c, est_result_t *out)
     opt.estimator = kind;
     opt.sensored_start = !c->aligned_start;
     opt.ideal_inverter = !c->realistic;
+    /* the estimator itself, below the product's command floor
+     * (SENSORLESS_MIN_SPEED_RPM) too */
+    opt.min_speed_rpm = 0;
     run_t r;
     run_scenario_with(text, &opt, &r);
 

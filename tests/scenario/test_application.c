@@ -124,6 +124,35 @@ static void case_field_weakening_max_speed(void)
     run_free(&r);
 }
 
+/* A sensorless command below SENSORLESS_MIN_SPEED_RPM (by default
+ * STARTUP_MIN_SPEED_RPM, 250 rpm) turns the rotor at that speed, its sign
+ * kept: judged on the plant's speed, against the same command with the
+ * floor set to 0 (the rotor then turns at the command). */
+static void case_low_command_raised(void)
+{
+    const double asked[] = { 100.0, -100.0 };
+    for (unsigned k = 0; k < 2u; k++) {
+        char text[96];
+        snprintf(text, sizeof text, "0 start\n0 speed %g\n2.5 end\n", asked[k]);
+        const double floor = copysign(SENSORLESS_MIN_SPEED_RPM, asked[k]);
+        for (int min_speed = -1; min_speed <= 0; min_speed++) {
+            sim_options_t opt;
+            sim_default_options(&opt);
+            opt.min_speed_rpm = min_speed; /* -1: userparms.h's floor */
+            run_t r;
+            run_scenario_with(text, &opt, &r);
+            const double want = (min_speed < 0) ? floor : asked[k];
+            const double got = run_mean_speed(&r, 2.0, 2.5);
+            printf("%+.0f rpm asked, floor %s: %.1f rpm (want %.0f), fault %s\n", asked[k],
+                   min_speed < 0 ? "default" : "0", got, want, foc_fault_name(r.fault));
+            TK_CHECK(fabs(got - want) <= 0.05 * fabs(want), "%+.0f rpm asked: %.1f rpm",
+                     asked[k], got);
+            TK_CHECK(r.fault == 0, "fault %s", foc_fault_name(r.fault));
+            run_free(&r);
+        }
+    }
+}
+
 /* The maximum speed asked with field weakening off: 24 V cannot reach it.
  * The speed settles where the voltage runs out (measured from the plant,
  * and below the 3500 rpm asked), steady within 1 % over its last 0.3 s,
@@ -350,6 +379,7 @@ static void case_fault_brake(void)
 TK_CASES(TK_CASE(case_fault_brake), TK_CASE(case_startup_matrix), TK_CASE(case_startup_matrix_luenberger),
          TK_CASE(case_startup_matrix_flux), TK_CASE(case_locked_rotor_fails_startup),
          TK_CASE(case_field_weakening_max_speed), TK_CASE(case_unreachable_speed_settles),
+         TK_CASE(case_low_command_raised),
          TK_CASE(case_stall_detected),
          TK_CASE(case_no_false_trip), TK_CASE(case_fault_overcurrent),
          TK_CASE(case_fault_overvoltage), TK_CASE(case_fault_undervoltage),

@@ -16,6 +16,9 @@
  *        run's options and expectations:
  *          #! estimator pll|luenberger|flux   (several: one run each)
  *          #! stop_mode ramp|coast|short      #! coulomb <Nm>
+ *          #! min_speed_rpm <rpm>             the controller's lowest
+ *                                             sensorless command (default
+ *                                             SENSORLESS_MIN_SPEED_RPM)
  *          #! expect fault                    a named fault must be latched
  *          #! expect state RUN                the final state
  *          #! expect speed <rpm> <tol %>      mean true speed over the last
@@ -140,6 +143,7 @@ typedef struct {
     foc_est_kind_t est;
     int stop_mode;
     double coulomb_nm;
+    int min_speed_rpm; /* -1: SENSORLESS_MIN_SPEED_RPM */
     int expect_fault;
     char expect_state[16];
     double expect_speed_rpm, expect_speed_tol;
@@ -168,6 +172,7 @@ static const char *const stop_names[] = { "ramp", "coast", "short" };
 static void generate(uint32_t seed, spec_t *sp)
 {
     memset(sp, 0, sizeof *sp);
+    sp->min_speed_rpm = -1;
     rng_state = 0x5EED0000ull ^ ((uint64_t)seed * 0x100000001B3ull);
     const double wmax = MOTOR_MAX_SPEED_RPM;
     const double t_rated = kt_nm_per_a(FOC_FLUX_WB) * MOTOR_RATED_CURRENT_A;
@@ -689,6 +694,7 @@ static int run_spec(const spec_t *sp, inject_t inj, int trace, result_t *res)
     sim_default_options(&opt);
     opt.estimator = sp->est;
     opt.stop_mode = sp->stop_mode;
+    opt.min_speed_rpm = sp->min_speed_rpm;
     if (sim_init(&sim, &opt, &scn, err, sizeof err) != 0) {
         fprintf(stderr, "torture: sim error: %s\n", err);
         scn_free(&scn);
@@ -775,6 +781,8 @@ static int parse_directives(const char *text, spec_t *sp, int *ests, int *nests)
                 }
             } else if (strcmp(key, "coulomb") == 0) {
                 sp->coulomb_nm = atof(a);
+            } else if (strcmp(key, "min_speed_rpm") == 0) {
+                sp->min_speed_rpm = atoi(a);
             } else if (strcmp(key, "expect") == 0) {
                 if (strcmp(a, "fault") == 0) {
                     sp->expect_fault = 1;
@@ -858,6 +866,7 @@ static int run_scenario_file(const char *path, int est_override, int trace)
     memset(&sp, 0, sizeof sp);
     sp.stop_mode = STOP_MODE;
     sp.coulomb_nm = MOTOR_COULOMB_NM;
+    sp.min_speed_rpm = -1;
     int ests[3], nests;
     if (parse_directives(text, &sp, ests, &nests) != 0) {
         free(text);

@@ -63,7 +63,7 @@ static void usage(FILE *f)
     fputs("usage: focsim [--estimator sensored|pll|luenberger|flux] [--scenario FILE]\n"
           "              [--csv FILE] [--plot FILE.svg] [--seed N] [--decimate N]\n"
           "              [--field-weakening off|table|voltage] [--stop-mode ramp|coast|short]\n"
-          "              [--brake-resistor on|off] [--sensored-start]\n"
+          "              [--brake-resistor on|off] [--sensored-start] [--min-speed-rpm N]\n"
           "              [--monitor FILE [--monitor-out FILE]] [--time] [--substeps N]\n",
           f);
 }
@@ -124,6 +124,13 @@ static int parse_option(cli_t *cli, const char *opt, const char *val)
             return -1;
         }
         cli->sim.substeps = (int)n;
+    } else if (strcmp(opt, "--min-speed-rpm") == 0) {
+        if (parse_ulong(val, &n) != 0 || n > (unsigned long)MOTOR_MAX_SPEED_RPM) {
+            fprintf(stderr, "focsim: --min-speed-rpm takes 0..%.0f (MOTOR_MAX_SPEED_RPM)\n",
+                    MOTOR_MAX_SPEED_RPM);
+            return -1;
+        }
+        cli->sim.min_speed_rpm = (int)n;
     } else if (strcmp(opt, "--monitor") == 0) {
         cli->monitor = val;
     } else if (strcmp(opt, "--monitor-out") == 0) {

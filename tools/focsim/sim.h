@@ -37,6 +37,8 @@ typedef struct {
     int fault_brake;        /* 0/1, or -1 for userparms.h's FAULT_BRAKE */
     int open_loop_only;     /* 0/1, or -1: OPEN_LOOP_FUNCTIONING */
     int tuning;             /* 0/1, or -1: TUNING */
+    int min_speed_rpm;      /* lowest sensorless command, rpm (0: none), */
+                            /* or -1: SENSORLESS_MIN_SPEED_RPM */
     int substeps;           /* RK4 substeps per PWM period of the model, */
                             /* 0 for its default (4) */
 } sim_options_t;
