@@ -69,6 +69,7 @@
 #define OV_MARGIN 1.02             /* bus above OVERVOLTAGE_V x this ... */
 #define OV_DETECT_S 0.005          /* ... for this long without the fault */
 #define CAUSE_WINDOW_S 1.0         /* how far back a fault's cause may lie */
+#define GAIN_RING_N 512            /* ms of true speed kept (>= 2 x 200 ms) */
 
 static double kt_nm_per_a(double flux_wb)
 {
@@ -359,6 +360,13 @@ typedef struct {
     long slip_k;
     int slip_flag;
     long uncontrollable_periods; /* current not judged: back-EMF beyond reach */
+    /* true speed, rpm, every millisecond (two of the follow check's slow
+     * windows) */
+    double gain_ring[GAIN_RING_N];
+    int gain_n, gain_i;
+    long gain_k;
+    double run_since;
+    double last_no_gain_t;
     /* speed window for `expect speed` */
     double tail_sum;
     long tail_n;
@@ -382,7 +390,7 @@ static void oracle_init(oracle_t *o)
     o->ov_since = -1.0;
     o->last_lock_t = o->last_spin_t = o->last_heavy_t = o->last_nf_t = -1e9;
     o->last_ov_t = o->last_uv_t = o->last_ol_slip_t = o->last_start_turning_t = -1e9;
-    o->last_oc_t = o->last_est_wrong_t = -1e9;
+    o->last_oc_t = o->last_est_wrong_t = o->last_no_gain_t = -1e9;
 }
 
 static int energised(int bridge) { return bridge == PMSM_BRIDGE_PWM; }
@@ -403,6 +411,7 @@ static const char *fault_cause(const oracle_t *o, uint16_t fault, double t)
         if (t - o->last_lock_t <= w) return "rotor locked";
         if (t - o->last_spin_t <= w) return "rotor driven";
         if (t - o->last_heavy_t <= w) return "load beyond the current";
+        if (t - o->last_no_gain_t <= w) return "rotor not gaining on the command";
         if (t - o->last_nf_t <= w) return "rotor not following";
         if (t - o->last_est_wrong_t <= w) return "estimate wrong";
         if (t - o->last_ol_slip_t <= 0.5) return "rotor not following the start-up";
@@ -478,6 +487,31 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
         ((st == FOC_STATE_ALIGN || st == FOC_STATE_OPENLOOP) &&
          m->load_nm + m->p.coulomb_nm > 0.9 * kt_nm_per_a(m->p.flux_wb) * STARTUP_CURRENT_FINAL_A)) {
         o->last_heavy_t = t;
+    }
+    /* in RUN, behind the command and not gaining on it by the follow
+     * check's own progress per window (docs/safety.md: its false-trip
+     * margin), judged on the true speed: a load that leaves the rotor a
+     * few rpm/s */
+    if (st == FOC_STATE_RUN && o->prev_state != FOC_STATE_RUN) o->run_since = t;
+    const long per_ms = (long)(PWM_FREQUENCY_HZ / 1000.0);
+    if (o->gain_k++ % per_ms == 0) {
+        o->gain_ring[o->gain_i] = w;
+        o->gain_i = (o->gain_i + 1) % GAIN_RING_N;
+        if (o->gain_n < GAIN_RING_N) o->gain_n++;
+        const double win_s = fabs(wcmd) >= 0.1 * wmax ? FOC_FOLLOW_FAST_S : FOC_FOLLOW_SLOW_S;
+        const int n = (int)(win_s * 1000.0 + 0.5);
+        /* both windows in RUN, where the check runs */
+        const int judged = st == FOC_STATE_RUN && t - o->run_since >= 2.0 * win_s;
+        const int behind = wcmd != 0.0 && (fabs(w) < 0.5 * fabs(wcmd) || (w < 0.0) != (wcmd < 0.0));
+        if (judged && behind && o->gain_n >= 2 * n) {
+            double last = 0.0, prev = 0.0;
+            for (int k = 1; k <= n; k++) {
+                last += o->gain_ring[(o->gain_i - k + GAIN_RING_N) % GAIN_RING_N];
+                prev += o->gain_ring[(o->gain_i - n - k + GAIN_RING_N) % GAIN_RING_N];
+            }
+            const double gain = (wcmd < 0.0 ? prev - last : last - prev) / n;
+            if (gain < FOC_FOLLOW_PROGRESS_RPM(win_s)) o->last_no_gain_t = t;
+        }
     }
     if (r->vdc_v >= 0.97 * OVERVOLTAGE_V) o->last_ov_t = t;
     if (r->vdc_v <= 1.03 * UNDERVOLTAGE_V) o->last_uv_t = t;
@@ -574,7 +608,6 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
         }
         o->slip_u += fmod(d - o->slip_prev_d + 540.0, 360.0) - 180.0;
         o->slip_prev_d = d;
-        const long per_ms = (long)(PWM_FREQUENCY_HZ / 1000.0);
         const int len = (int)(SLIP_WINDOW_S * 1000.0);
         if (o->slip_k++ % per_ms == 0) {
             /* against the sample SLIP_WINDOW_S ago (the oldest one in the
