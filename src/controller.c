@@ -799,8 +799,11 @@ static void stall_check(foc_ctrl_t *c)
         (!in_range) ? 0u
         : reliable  ? (uint16_t)((c->unreliable_ticks != 0u) ? c->unreliable_ticks - 1u : 0u)
                     : (uint16_t)(c->unreliable_ticks + 2u);
+    /* the flux estimator's learned flux is itself slow and slewed (tens of
+     * ms to reach its range's end): no second wait (regress/2b) */
+    const uint16_t emf_low_max = (c->est.kind == FOC_EST_FLUX) ? 1u : (uint16_t)STALL_TICKS;
     c->emf_low_ticks = emf_ok ? 0u : (uint16_t)(c->emf_low_ticks + 1u);
-    if (c->unreliable_ticks >= 2u * STALL_TICKS || c->emf_low_ticks >= STALL_TICKS) {
+    if (c->unreliable_ticks >= 2u * STALL_TICKS || c->emf_low_ticks >= emf_low_max) {
         trip(c, (uint16_t)FOC_FAULT_SPEED_FEEDBACK);
     }
 }

@@ -116,6 +116,8 @@ uint8_t foc_est_emf_consistent(const foc_estimator_t *est, q15_t ratio)
         /* e_q is Q15 of the EMF at SPEED_BASE_RPM: the speed it implies. */
         return (uint8_t)(foc_abs_q15(est->u.luenberger.emf_speed) >=
                          foc_mul_q15(ratio, foc_abs_q15(foc_luen_speed(&est->u.luenberger))));
+    case FOC_EST_FLUX:
+        return foc_flux_consistent(&est->u.flux);
     default:
         return 1; /* the sensor needs no such check */
     }

@@ -6,6 +6,11 @@
 #define PSI_M_MAX ((q31_t)FOC_FLUX_PSI_M * (q31_t)98304) /* 1.5 psi_m */
 #define PSI_M_MIN ((q31_t)FOC_FLUX_PSI_M * (q31_t)32768) /* 0.5 psi_m */
 
+uint8_t foc_flux_consistent(const foc_flux_est_t *f)
+{
+    return (uint8_t)(f->psi_m > PSI_M_MIN && f->psi_m < PSI_M_MAX);
+}
+
 /* Largest radial error the radius learns from, Q15 (0.1 psi_m). */
 #define RADIAL_ERR_MAX ((int32_t)FOC_FLUX_PSI_M / 10)
 

@@ -166,7 +166,9 @@ void foc_est_set_fw(foc_estimator_t *est, q15_t inv_kfi, q15_t ls_scale);
 /* 1 if the estimator's back-EMF magnitude is at least `ratio` (Q15) of
  * what its own speed estimate implies (a held rotor that the estimator
  * "sees" turning fails this).  A speed derived from the EMF magnitude
- * itself (PLL) passes by construction. */
+ * itself (PLL) passes by construction.  The flux estimator, which learns
+ * the magnet's flux, fails it when that flux is pinned at its range's
+ * end (foc_flux_consistent; `ratio` unused). */
 uint8_t foc_est_emf_consistent(const foc_estimator_t *est, q15_t ratio);
 
 /* "sensored", "pll", "luenberger", "flux". */

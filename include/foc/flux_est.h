@@ -94,6 +94,12 @@ void foc_flux_set_ls(foc_flux_est_t *f, q15_t ratio_q14);
  * feed-forward of the speed observer). */
 void foc_flux_step(foc_flux_est_t *f, foc_ab_t v_last, foc_ab_t i_now, q15_t iq_ref);
 
+/* 1 while the learned magnet flux is inside its range: pinned at 0.5 or
+ * 1.5 x psi_m, no magnet the model accepts explains the voltages (a
+ * winding resistance far from the estimator's, a rotor pulled out of step
+ * while the estimate turns on: issue 10 finding 2, regress/2b). */
+uint8_t foc_flux_consistent(const foc_flux_est_t *f);
+
 static inline q15_t foc_flux_speed(const foc_flux_est_t *f)
 {
     return foc_speed_obs_speed(&f->obs);
