@@ -254,7 +254,14 @@ static void current_loop(foc_ctrl_t *c, uint8_t frame)
     if (probing == 0u) { /* (held in the probe: it measures from them) */
         step.d = (q15_t)FOC_SAT_BITS((int32_t)c->i_ref.d - c->i_ref_slewed.d, FOC_IREF_STEP_BITS);
         if (frame == FRAME_ESTIMATE) {
-            step.q = (q15_t)FOC_SAT_BITS((int32_t)c->i_ref.q - c->i_ref_slewed.q, FOC_IREF_STEP_BITS);
+            /* beyond the maximum speed no current that drives the rotor
+             * further, at once: the speed loop acts a slow tick and its
+             * filter later (a load let go at the maximum speed) */
+            const q15_t iq_ref = (foc_abs_q15(c->est.speed) > FOC_DRIVE_CUT_SPEED &&
+                                  (c->i_ref.q < 0) == (c->est.speed < 0))
+                                     ? 0
+                                     : c->i_ref.q;
+            step.q = (q15_t)FOC_SAT_BITS((int32_t)iq_ref - c->i_ref_slewed.q, FOC_IREF_STEP_BITS);
             c->i_ref_slewed.d = (q15_t)(c->i_ref_slewed.d + step.d);
             c->i_ref_slewed.q = (q15_t)(c->i_ref_slewed.q + step.q);
         } else {

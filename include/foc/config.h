@@ -893,6 +893,11 @@ FOC_STATIC_ASSERT(FOC_PROBE_SPACING * FOC_DTHETA_AT_BASE * MOTOR_MAX_SPEED_RPM *
     ((0.5 * FOC_FOLLOW_ACCEL_MIN_RPM_S * (window_s) < FOC_FOLLOW_NOISE_RPM)     \
          ? 0.5 * FOC_FOLLOW_ACCEL_MIN_RPM_S * (window_s)                       \
          : FOC_FOLLOW_NOISE_RPM)
+/* Beyond this speed the fast step lets no current drive the rotor
+ * further (a load let go at the maximum speed: the speed loop acts a slow
+ * tick and its filter later): the maximum plus twice the estimate's noise,
+ * so a speed loop holding the maximum is not chopped. */
+#define FOC_DRIVE_CUT_SPEED FOC_SPEED_Q15(MOTOR_MAX_SPEED_RPM + 2.0 * FOC_FOLLOW_NOISE_RPM)
 #define FOC_FOLLOW_PROGRESS_FAST FOC_SPEED_Q15(FOC_FOLLOW_PROGRESS_RPM(FOC_FOLLOW_FAST_S))
 #define FOC_FOLLOW_PROGRESS_SLOW FOC_SPEED_Q15(FOC_FOLLOW_PROGRESS_RPM(FOC_FOLLOW_SLOW_S))
 FOC_STATIC_ASSERT(FOC_FOLLOW_PROGRESS_FAST >= 2,
