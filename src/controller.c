@@ -781,11 +781,24 @@ static void speed_loop(foc_ctrl_t *c, q15_t target)
     c->i_ref.q = foc_sc_step(&c->speed_ctrl, c->est.speed, c->i_ref.d);
 }
 
+/* A speed command of the other sign in a sensorless run: ramp down to the
+ * estimator's low-speed end, then start again the other way (the
+ * estimator cannot follow through standstill). */
+static uint8_t reversing(const foc_ctrl_t *c)
+{
+    return (uint8_t)(c->est.use_sensor == 0u && c->req.speed != 0 &&
+                     (c->req.speed < 0) != (c->direction < 0));
+}
+
 /* Step-out / stall (sensorless): ST's reliability statistic, and the
  * back-EMF against the speed the estimator claims, which catches a locked
  * rotor the statistic misses (a rotor jittering on the spot).  The
  * statistic counts only while the reference is in the estimator's range:
- * below it a ramp alone makes the 64-sample variance exceed mean^2 x 1/16. */
+ * below it a ramp alone makes the 64-sample variance exceed mean^2 x 1/16.
+ * The back-EMF check pauses in a reversal's ramp down, which brakes the
+ * rotor at the current limit through the estimator's low end (there the
+ * back-EMF is within the resistance's and the dead time's voltage errors:
+ * the fan at 150 rpm, seed 5201) and has its own windows. */
 static void stall_check(foc_ctrl_t *c)
 {
     foc_speed_stats_push(&c->speed_stats, c->est.est_speed);
@@ -809,19 +822,11 @@ static void stall_check(foc_ctrl_t *c)
     /* the flux estimator's learned flux is itself slow and slewed (tens of
      * ms to reach its range's end): no second wait (regress/2b) */
     const uint16_t emf_low_max = (c->est.kind == FOC_EST_FLUX) ? 1u : (uint16_t)STALL_TICKS;
-    c->emf_low_ticks = emf_ok ? 0u : (uint16_t)(c->emf_low_ticks + 1u);
+    c->emf_low_ticks =
+        (emf_ok != 0u || reversing(c) != 0u) ? 0u : (uint16_t)(c->emf_low_ticks + 1u);
     if (c->unreliable_ticks >= 2u * STALL_TICKS || c->emf_low_ticks >= emf_low_max) {
         trip(c, (uint16_t)FOC_FAULT_SPEED_FEEDBACK);
     }
-}
-
-/* A speed command of the other sign in a sensorless run: ramp down to the
- * estimator's low-speed end, then start again the other way (the
- * estimator cannot follow through standstill). */
-static uint8_t reversing(const foc_ctrl_t *c)
-{
-    return (uint8_t)(c->est.use_sensor == 0u && c->req.speed != 0 &&
-                     (c->req.speed < 0) != (c->direction < 0));
 }
 
 static void stop_or_brake(foc_ctrl_t *c)
@@ -838,6 +843,16 @@ static void stop_or_brake(foc_ctrl_t *c)
         enter(c, FOC_STATE_STOP);
         break;
     }
+}
+
+/* |speed| that a reversal's windows compare: the statistic's 64-tick mean
+ * once it is full (one estimate of the fan's Luenberger observer swings
+ * by 25 rpm against a 37 rpm progress: seed 5585), the estimate before. */
+static q15_t reversal_speed_now(const foc_ctrl_t *c)
+{
+    return foc_abs_q15((c->speed_stats.count >= FOC_SPEED_STATS_N)
+                           ? foc_speed_stats_mean(&c->speed_stats)
+                           : c->est.speed);
 }
 
 static void run_tick(foc_ctrl_t *c)
@@ -860,7 +875,7 @@ static void run_tick(foc_ctrl_t *c)
         if (c->start_ticks >= FOC_RAMP_DOWN_TICKS) {
             /* a window over: on while the rotor slows (a large inertia at
              * the current limit), else it does not slow down */
-            const q15_t now = foc_abs_q15(c->est.speed);
+            const q15_t now = reversal_speed_now(c);
             if ((int32_t)c->reversal_speed - now < FOC_REVERSAL_PROGRESS) {
                 trip(c, (uint16_t)FOC_FAULT_SPEED_FEEDBACK);
                 return;
@@ -870,7 +885,7 @@ static void run_tick(foc_ctrl_t *c)
         }
     } else {
         c->start_ticks = 0;
-        c->reversal_speed = foc_abs_q15(c->est.speed);
+        c->reversal_speed = reversal_speed_now(c);
         speed_loop(c, c->req.speed);
     }
     /* the follow check on the command, also through a reversal's ramp
