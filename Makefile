@@ -11,7 +11,7 @@ BUILD      := build/host
 JOBS       ?= 2
 CMAKE_ARGS := -DFOC_USERPARMS="$(FOC_USERPARMS)"
 
-.PHONY: all test sim configure build core-arm clean torture torture-regress
+.PHONY: all test sim configure build core-arm clean torture torture-regress check-torture
 
 all: build
 
@@ -42,6 +42,11 @@ torture: build
 	    --runs $(TORTURE_RUNS) --jobs $(JOBS)
 
 torture-regress: build
+	python3 tools/torture.py --bin $(BUILD)/torture --regress tests/torture/regress
+
+# make check's part: the short seeded campaign (seeds 1..200) and the findings
+check-torture: build
+	python3 tools/torture.py --bin $(BUILD)/torture --seed 1 --runs 200 --jobs $(JOBS)
 	python3 tools/torture.py --bin $(BUILD)/torture --regress tests/torture/regress
 
 # The core alone, cross-compiled as the STM32 image will compile it.
@@ -321,7 +326,7 @@ dspic-est:
 	    --lines 12 --output $(DSPIC_EST_OUT)/estimate.txt
 
 check:
-	@fail=""; for t in check-sanitize check-fuzz check-static check-bench; do \
+	@fail=""; for t in check-sanitize check-fuzz check-static check-bench check-torture; do \
 	  echo "=== make $$t"; \
 	  $(MAKE) --no-print-directory $$t || fail="$$fail $$t"; \
 	done; \
