@@ -781,15 +781,6 @@ static void speed_loop(foc_ctrl_t *c, q15_t target)
     c->i_ref.q = foc_sc_step(&c->speed_ctrl, c->est.speed, c->i_ref.d);
 }
 
-/* A speed command of the other sign in a sensorless run: ramp down to the
- * estimator's low-speed end, then start again the other way (the
- * estimator cannot follow through standstill). */
-static uint8_t reversing(const foc_ctrl_t *c)
-{
-    return (uint8_t)(c->est.use_sensor == 0u && c->req.speed != 0 &&
-                     (c->req.speed < 0) != (c->direction < 0));
-}
-
 /* Step-out / stall (sensorless): ST's reliability statistic, and the
  * back-EMF against the speed the estimator claims, which catches a locked
  * rotor the statistic misses (a rotor jittering on the spot).  The
@@ -799,7 +790,7 @@ static uint8_t reversing(const foc_ctrl_t *c)
  * rotor at the current limit through the estimator's low end (there the
  * back-EMF is within the resistance's and the dead time's voltage errors:
  * the fan at 150 rpm, seed 5201) and has its own windows. */
-static void stall_check(foc_ctrl_t *c)
+static void stall_check(foc_ctrl_t *c, uint8_t reversal)
 {
     foc_speed_stats_push(&c->speed_stats, c->est.est_speed);
     if (c->est.use_sensor != 0u || c->speed_stats.count < FOC_SPEED_STATS_N) {
@@ -823,10 +814,19 @@ static void stall_check(foc_ctrl_t *c)
      * ms to reach its range's end): no second wait (regress/2b) */
     const uint16_t emf_low_max = (c->est.kind == FOC_EST_FLUX) ? 1u : (uint16_t)STALL_TICKS;
     c->emf_low_ticks =
-        (emf_ok != 0u || reversing(c) != 0u) ? 0u : (uint16_t)(c->emf_low_ticks + 1u);
+        (emf_ok != 0u || reversal != 0u) ? 0u : (uint16_t)(c->emf_low_ticks + 1u);
     if (c->unreliable_ticks >= 2u * STALL_TICKS || c->emf_low_ticks >= emf_low_max) {
         trip(c, (uint16_t)FOC_FAULT_SPEED_FEEDBACK);
     }
+}
+
+/* A speed command of the other sign in a sensorless run: ramp down to the
+ * estimator's low-speed end, then start again the other way (the
+ * estimator cannot follow through standstill). */
+static uint8_t reversing(const foc_ctrl_t *c)
+{
+    return (uint8_t)(c->est.use_sensor == 0u && c->req.speed != 0 &&
+                     (c->req.speed < 0) != (c->direction < 0));
 }
 
 static void stop_or_brake(foc_ctrl_t *c)
@@ -866,7 +866,8 @@ static void run_tick(foc_ctrl_t *c)
         }
     }
     /* start_ticks, unused in RUN, times a reversal's ramp down */
-    if (reversing(c)) {
+    const uint8_t reversal = reversing(c);
+    if (reversal != 0u) {
         speed_loop(c, 0);
         if (foc_abs_q15(c->est.speed) <= (q15_t)(FOC_STARTUP_MIN_SPEED / 2)) {
             begin_start(c);
@@ -904,7 +905,7 @@ static void run_tick(foc_ctrl_t *c)
         trip(c, faults);
         return;
     }
-    stall_check(c);
+    stall_check(c, reversal);
     if (c->state == FOC_STATE_RUN && c->req.stop != 0u) {
         stop_or_brake(c);
     }
