@@ -62,9 +62,9 @@ uint16_t foc_sup_follow(foc_supervision_t *s, q15_t command, q15_t speed, q15_t 
     const uint8_t limited =
         (uint8_t)((int32_t)foc_abs_q15(iq_ref) * 8 >= (int32_t)FOC_CURRENT_LIMIT * 7 &&
                   (iq_ref < 0) == (command < 0));
-    /* behind: below half the command, or turning the other way */
+    /* behind: below 7/8 of the command, or turning the other way */
     const uint8_t behind =
-        (uint8_t)(cmd != 0 && ((int32_t)foc_abs_q15(speed) * 2 < (int32_t)cmd ||
+        (uint8_t)(cmd != 0 && ((int32_t)foc_abs_q15(speed) * 8 < (int32_t)cmd * 7 ||
                                (speed < 0) != (command < 0)));
     if (limited == 0u || behind == 0u) {
         follow_restart(s);

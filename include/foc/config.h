@@ -867,7 +867,7 @@ FOC_STATIC_ASSERT(FOC_PROBE_SPACING * FOC_DTHETA_AT_BASE * MOTOR_MAX_SPEED_RPM *
 #define FOC_I2T_TRIP ((int32_t)1 << 20)
 #define FOC_I2T_CLEAR ((int32_t)1 << 19)
 /* A rotor that does not follow: the speed loop at its current limit, the
- * speed below half the command and not gaining on it, for this long
+ * speed below 7/8 of the command and not gaining on it, for this long
  * (two windows, above and below 10 % of the maximum speed; the speed loop
  * needs some tens of ms to reach its limit, inside the 200 / 500 ms of
  * docs/safety.md). */
@@ -877,11 +877,17 @@ FOC_STATIC_ASSERT(FOC_PROBE_SPACING * FOC_DTHETA_AT_BASE * MOTOR_MAX_SPEED_RPM *
 #define FOC_FOLLOW_SLOW_TICKS FOC_TICKS(FOC_FOLLOW_SLOW_S)
 #define FOC_FOLLOW_SPEED_SPLIT FOC_SPEED_Q15(0.1 * MOTOR_MAX_SPEED_RPM)
 /* Gaining: the mean speed moves toward the command's direction by this
- * per window, 0.2 % of the maximum speed + 1 rpm (above the estimate's
- * noise), or half what the largest inertia FOLLOW_INERTIA_MAX_KGM2 gains
- * at the current limit in a window where that is less (a fan with 20 x
- * its rotor's inertia gains 3 rpm in a fast window, the 4 rpm asked of
- * it tripped SPEED_FEEDBACK on a rotor that followed). */
+ * per window: 0.2 % of the maximum speed + 1 rpm (above the estimate's
+ * noise), kept between a tenth and a half of what the largest inertia
+ * FOLLOW_INERTIA_MAX_KGM2 gains at the current limit in a window.  Half
+ * at most: a fan with 20 x its rotor's inertia gains 3 rpm in a fast
+ * window, the 4 rpm asked of it tripped SPEED_FEEDBACK on a rotor that
+ * followed.  A tenth at least: a rotor gaining less carries a load of 90 %
+ * of the limit's torque or more, whatever its inertia within the
+ * envelope; less asked let an estimate drifting 40 rpm a window on a
+ * rotor held at rest run on (the Hurst075's PLL at 1.4 x the dead time
+ * and 1.18 x the resistance, a load of 2.2 x the limit's torque: seed
+ * 5484). */
 #ifndef FOLLOW_INERTIA_MAX_KGM2
 #define FOLLOW_INERTIA_MAX_KGM2 (20.0 * MOTOR_INERTIA_KGM2)
 #endif
@@ -889,9 +895,12 @@ FOC_STATIC_ASSERT(FOC_PROBE_SPACING * FOC_DTHETA_AT_BASE * MOTOR_MAX_SPEED_RPM *
     (1.5 * MOTOR_POLE_PAIRS * FOC_FLUX_WB * CURRENT_LIMIT_A * (1.0 - CURRENT_REF_MARGIN) / \
      FOLLOW_INERTIA_MAX_KGM2 * 60.0 / (2.0 * FOC_PI_D))
 #define FOC_FOLLOW_NOISE_RPM (0.002 * MOTOR_MAX_SPEED_RPM + 1.0)
+#define FOC_FOLLOW_GAIN_MAX_RPM(window_s) (FOC_FOLLOW_ACCEL_MIN_RPM_S * (window_s))
 #define FOC_FOLLOW_PROGRESS_RPM(window_s)                                      \
-    ((0.5 * FOC_FOLLOW_ACCEL_MIN_RPM_S * (window_s) < FOC_FOLLOW_NOISE_RPM)     \
-         ? 0.5 * FOC_FOLLOW_ACCEL_MIN_RPM_S * (window_s)                       \
+    ((0.5 * FOC_FOLLOW_GAIN_MAX_RPM(window_s) < FOC_FOLLOW_NOISE_RPM)          \
+         ? 0.5 * FOC_FOLLOW_GAIN_MAX_RPM(window_s)                             \
+     : (0.1 * FOC_FOLLOW_GAIN_MAX_RPM(window_s) > FOC_FOLLOW_NOISE_RPM)        \
+         ? 0.1 * FOC_FOLLOW_GAIN_MAX_RPM(window_s)                             \
          : FOC_FOLLOW_NOISE_RPM)
 /* Beyond this speed the fast step lets no current drive the rotor
  * further (a load let go at the maximum speed: the speed loop acts a slow

@@ -8,7 +8,7 @@
  *   stall can be seen (MOTOR_OVERLOAD).
  * - Overspeed: the speed above (1 + OVERSPEED_MARGIN) x the maximum.
  * - A rotor that does not follow at any commanded speed: the speed loop at
- *   its current limit with the speed below half the command and not
+ *   its current limit with the speed below 7/8 of the command and not
  *   gaining on it (SPEED_FEEDBACK) -- a locked rotor at 100 rpm, where the
  *   estimator's statistics are blind, or a load the motor cannot carry.
  *   Gaining is judged on the mean speed over two consecutive windows,
@@ -59,7 +59,7 @@ uint16_t foc_sup_overspeed(foc_supervision_t *s, q15_t speed);
 /* SPEED_FEEDBACK when, commanded `command`, the speed loop's output
  * `iq_ref` sits at the current limit toward the command's direction (the
  * whole FOC_CURRENT_LIMIT, not what field weakening leaves of it) while
- * `speed` stays below half the command without gaining on it for the
+ * `speed` stays below 7/8 of the command without gaining on it for the
  * window of that command. */
 uint16_t foc_sup_follow(foc_supervision_t *s, q15_t command, q15_t speed, q15_t iq_ref);
 

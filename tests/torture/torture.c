@@ -70,6 +70,12 @@
 #define OV_DETECT_S 0.005          /* ... for this long without the fault */
 #define CAUSE_WINDOW_S 1.0         /* how far back a fault's cause may lie */
 #define GAIN_RING_N 512            /* ms of true speed kept (>= 2 x 200 ms) */
+#define HEAVY_FRACTION 0.9          /* a load beyond: of Kt x the q limit */
+#define NO_GAIN_IQ_FRACTION 0.75    /* "at the current limit": mean true iq */
+#define IQ_REF_MAX_A (CURRENT_LIMIT_A * (1.0 - CURRENT_REF_MARGIN))
+#define HUNT_FRACTION 0.5          /* hunting: the true iq swings beyond */
+#define HUNT_SWINGS 8              /* +-this x CURRENT_LIMIT_A this often */
+#define HUNT_WINDOW_S 0.1          /* within this time, in RUN */
 
 static double kt_nm_per_a(double flux_wb)
 {
@@ -349,7 +355,11 @@ typedef struct {
     uint16_t prev_first;
     /* recent history for fault causes */
     double last_lock_t, last_spin_t, last_heavy_t, last_nf_t, last_ov_t, last_uv_t;
-    double last_est_wrong_t, last_ol_slip_t, last_start_turning_t, last_oc_t;
+    double last_est_wrong_t, last_ol_slip_t, last_start_turning_t, last_oc_t, last_hunt_t;
+    /* the speed loop hunting: times of the last HUNT_SWINGS swings of the
+     * true iq from one side of +-HUNT_FRACTION x the limit to the other */
+    double hunt_t[HUNT_SWINGS];
+    int hunt_i, hunt_side;
     const char *last_cause; /* of the last fault latched */
     double vdc_max;
     /* unwrapped electrical angle error (estimate - true), deg, sampled
@@ -363,6 +373,7 @@ typedef struct {
     /* true speed, rpm, every millisecond (two of the follow check's slow
      * windows) */
     double gain_ring[GAIN_RING_N];
+    double gain_iq_ring[GAIN_RING_N]; /* true iq toward the command, A */
     int gain_n, gain_i;
     long gain_k;
     double run_since;
@@ -390,7 +401,8 @@ static void oracle_init(oracle_t *o)
     o->ov_since = -1.0;
     o->last_lock_t = o->last_spin_t = o->last_heavy_t = o->last_nf_t = -1e9;
     o->last_ov_t = o->last_uv_t = o->last_ol_slip_t = o->last_start_turning_t = -1e9;
-    o->last_oc_t = o->last_est_wrong_t = o->last_no_gain_t = -1e9;
+    o->last_oc_t = o->last_est_wrong_t = o->last_no_gain_t = o->last_hunt_t = -1e9;
+    for (int k = 0; k < HUNT_SWINGS; k++) o->hunt_t[k] = -1e9;
 }
 
 static int energised(int bridge) { return bridge == PMSM_BRIDGE_PWM; }
@@ -414,6 +426,7 @@ static const char *fault_cause(const oracle_t *o, uint16_t fault, double t)
         if (t - o->last_no_gain_t <= w) return "rotor not gaining on the command";
         if (t - o->last_nf_t <= w) return "rotor not following";
         if (t - o->last_est_wrong_t <= w) return "estimate wrong";
+        if (t - o->last_hunt_t <= w) return "speed loop hunting";
         if (t - o->last_ol_slip_t <= 0.5) return "rotor not following the start-up";
         if (t - o->last_start_turning_t <= w + STARTUP_TIMEOUT_S) return "start into a turning rotor";
         if (t - o->last_uv_t <= w) return "bus low";
@@ -480,38 +493,66 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
     if (m->rotor == PMSM_ROTOR_SPIN) o->last_spin_t = t;
     /* the torque against the rotor: the load and the friction, dry and
      * viscous (a load just below the limit's torque with friction on top
-     * is beyond it) */
+     * is beyond it), against HEAVY_FRACTION of the torque the current
+     * references' limit gives (the follow check's policy: a rotor gaining
+     * less than a tenth of what the heaviest one would at the limit
+     * carries that much; seed 783, the servo knocked from 340 to 130 rpm
+     * by a load of 99.6 % of that torque, tripped by the statistic) */
     const double against_nm =
         m->load_nm + m->p.coulomb_nm + m->p.b_nm_per_rad_s * fabs(w) * RAD_S_PER_RPM;
-    if (against_nm > 0.9 * kt_nm_per_a(m->p.flux_wb) * CURRENT_LIMIT_A ||
+    if (against_nm > HEAVY_FRACTION * kt_nm_per_a(m->p.flux_wb) * IQ_REF_MAX_A ||
         ((st == FOC_STATE_ALIGN || st == FOC_STATE_OPENLOOP) &&
          m->load_nm + m->p.coulomb_nm > 0.9 * kt_nm_per_a(m->p.flux_wb) * STARTUP_CURRENT_FINAL_A)) {
         o->last_heavy_t = t;
     }
-    /* in RUN, behind the command and not gaining on it by the follow
-     * check's own progress per window (docs/safety.md: its false-trip
-     * margin), judged on the true speed: a load that leaves the rotor a
-     * few rpm/s */
+    /* in RUN, at the current limit toward the command, behind it and not
+     * gaining on it by the follow check's own progress per window
+     * (docs/safety.md: its false-trip margin), judged on the true speed
+     * and current: a load that takes most of the limit's torque */
     if (st == FOC_STATE_RUN && o->prev_state != FOC_STATE_RUN) o->run_since = t;
     const long per_ms = (long)(PWM_FREQUENCY_HZ / 1000.0);
     if (o->gain_k++ % per_ms == 0) {
         o->gain_ring[o->gain_i] = w;
+        o->gain_iq_ring[o->gain_i] = (wcmd < 0.0) ? -r->iq_a : r->iq_a;
         o->gain_i = (o->gain_i + 1) % GAIN_RING_N;
         if (o->gain_n < GAIN_RING_N) o->gain_n++;
         const double win_s = fabs(wcmd) >= 0.1 * wmax ? FOC_FOLLOW_FAST_S : FOC_FOLLOW_SLOW_S;
         const int n = (int)(win_s * 1000.0 + 0.5);
         /* both windows in RUN, where the check runs */
         const int judged = st == FOC_STATE_RUN && t - o->run_since >= 2.0 * win_s;
-        const int behind = wcmd != 0.0 && (fabs(w) < 0.5 * fabs(wcmd) || (w < 0.0) != (wcmd < 0.0));
+        const int behind = wcmd != 0.0 && (fabs(w) < 0.875 * fabs(wcmd) || (w < 0.0) != (wcmd < 0.0));
         if (judged && behind && o->gain_n >= 2 * n) {
-            double last = 0.0, prev = 0.0;
+            double last = 0.0, prev = 0.0, iq = 0.0;
             for (int k = 1; k <= n; k++) {
-                last += o->gain_ring[(o->gain_i - k + GAIN_RING_N) % GAIN_RING_N];
-                prev += o->gain_ring[(o->gain_i - n - k + GAIN_RING_N) % GAIN_RING_N];
+                const int i1 = (o->gain_i - k + GAIN_RING_N) % GAIN_RING_N;
+                const int i2 = (o->gain_i - n - k + GAIN_RING_N) % GAIN_RING_N;
+                last += o->gain_ring[i1];
+                prev += o->gain_ring[i2];
+                iq += o->gain_iq_ring[i1] + o->gain_iq_ring[i2];
             }
             const double gain = (wcmd < 0.0 ? prev - last : last - prev) / n;
-            if (gain < FOC_FOLLOW_PROGRESS_RPM(win_s)) o->last_no_gain_t = t;
+            const int limited = iq / (2 * n) >= NO_GAIN_IQ_FRACTION * IQ_REF_MAX_A;
+            if (limited && gain < FOC_FOLLOW_PROGRESS_RPM(win_s)) o->last_no_gain_t = t;
         }
+    }
+    /* the speed loop hunting: full torque one way, then the other, again
+     * and again (a rotor much lighter than MOTOR_INERTIA_KGM2 makes the
+     * loop's gain too high for its delays: Shinano at J x 0.25, seed 295)
+     * -- a reason to stop, the drive train takes torque reversals at the
+     * current limit */
+    if (st == FOC_STATE_RUN) {
+        const int side = r->iq_a >= HUNT_FRACTION * CURRENT_LIMIT_A    ? 1
+                         : r->iq_a <= -HUNT_FRACTION * CURRENT_LIMIT_A ? -1
+                                                                       : 0;
+        if (side != 0 && side == -o->hunt_side) {
+            o->hunt_t[o->hunt_i] = t;
+            o->hunt_i = (o->hunt_i + 1) % HUNT_SWINGS;
+            /* the oldest of the last HUNT_SWINGS swings */
+            if (t - o->hunt_t[o->hunt_i] <= HUNT_WINDOW_S) o->last_hunt_t = t;
+        }
+        if (side != 0) o->hunt_side = side;
+    } else {
+        o->hunt_side = 0;
     }
     if (r->vdc_v >= 0.97 * OVERVOLTAGE_V) o->last_ov_t = t;
     if (r->vdc_v <= 1.03 * UNDERVOLTAGE_V) o->last_uv_t = t;

@@ -440,24 +440,29 @@ static void case_deadtime_error(void)
 }
 
 /* The follow check on the speed, not on the distance to the command: a
- * rotor gaining slowly at the current limit (FOC_FOLLOW_PROGRESS_SLOW per
- * window, below 10 % of the maximum speed) is not a stall, even when the
- * command moves farther away within a window (the distance then grows: a
- * fan accelerating at 122 rpm/s tripped SPEED_FEEDBACK on a new command);
- * a rotor that does not gain trips after two windows whatever the command
- * does; both directions. */
-static uint16_t follow_run(int dir, int gain_per_window, int command_step, unsigned windows)
+ * rotor gaining slowly at the current limit (the progress per window) is
+ * not a stall, even when the command moves farther away within a window
+ * (the distance then grows: a fan accelerating at 122 rpm/s tripped
+ * SPEED_FEEDBACK on a new command); a rotor that does not gain trips after
+ * two windows whatever the command does; both directions.  On the fast
+ * windows (commands above FOC_FOLLOW_SPEED_SPLIT) all four; on the slow
+ * ones the stalled rotor (the Hurst075 gains at least 268 rpm per slow
+ * window when it follows, more than the slow commands leave room for). */
+static uint16_t follow_run(int dir, int gain_per_window, int command_step, unsigned windows,
+                           int fast)
 {
     foc_supervision_t s;
     foc_sup_init(&s);
     const q15_t iq_max = FOC_CURRENT_LIMIT;
-    const int32_t window = FOC_FOLLOW_SLOW_TICKS;
-    /* below the fast windows' split throughout, above twice the speed */
+    const int32_t window = fast ? FOC_FOLLOW_FAST_TICKS : FOC_FOLLOW_SLOW_TICKS;
+    /* fast: from half the maximum speed; slow: below the split throughout;
+     * above 8/7 of the speed either way */
     const int32_t cmd0 =
-        FOC_FOLLOW_SPEED_SPLIT - 1 - (int32_t)windows * (command_step > 0 ? command_step : 0);
+        fast ? FOC_SPEED_Q15(0.5 * MOTOR_MAX_SPEED_RPM)
+             : FOC_FOLLOW_SPEED_SPLIT - 1 - (int32_t)windows * (command_step > 0 ? command_step : 0);
     int32_t speed = 10;
     for (int32_t k = 0; k < (int32_t)windows * window; k++) {
-        /* the command steps up halfway through each window */
+        /* the command steps halfway through each window */
         const int32_t cmd = cmd0 + (((k + window / 2) / window) * command_step);
         speed += ((k % window) == 0) ? gain_per_window : 0;
         const uint16_t f =
@@ -471,15 +476,20 @@ static uint16_t follow_run(int dir, int gain_per_window, int command_step, unsig
 
 static void case_follow_check(void)
 {
-    const int gain = FOC_FOLLOW_PROGRESS_SLOW + 1;
+    const int gain = FOC_FOLLOW_PROGRESS_FAST + 1;
+    const int closer = FOC_FOLLOW_SPEED_SPLIT / 16; /* 6 windows: still above 8/7 x 10 */
     for (int dir = -1; dir <= 1; dir += 2) {
-        TK_CHECK(follow_run(dir, gain, 0, 6) == 0u, "dir %d: gaining, fixed command", dir);
-        TK_CHECK(follow_run(dir, gain, 4 * gain, 6) == 0u,
+        TK_CHECK(follow_run(dir, gain, 0, 6, 1) == 0u, "dir %d: gaining, fixed command", dir);
+        TK_CHECK(follow_run(dir, gain, 4 * gain, 6, 1) == 0u,
                  "dir %d: gaining, the command moving away", dir);
-        TK_CHECK(follow_run(dir, 0, 0, 6) == (uint16_t)FOC_FAULT_SPEED_FEEDBACK,
-                 "dir %d: stalled, fixed command", dir);
-        TK_CHECK(follow_run(dir, 0, -4 * gain, 6) == (uint16_t)FOC_FAULT_SPEED_FEEDBACK,
-                 "dir %d: stalled, the command coming closer", dir);
+        TK_CHECK(follow_run(dir, gain - 2, 0, 6, 1) == (uint16_t)FOC_FAULT_SPEED_FEEDBACK,
+                 "dir %d: gaining less than the progress, fixed command", dir);
+        for (int fast = 0; fast <= 1; fast++) {
+            TK_CHECK(follow_run(dir, 0, 0, 6, fast) == (uint16_t)FOC_FAULT_SPEED_FEEDBACK,
+                     "dir %d, fast %d: stalled, fixed command", dir, fast);
+            TK_CHECK(follow_run(dir, 0, -closer, 6, fast) == (uint16_t)FOC_FAULT_SPEED_FEEDBACK,
+                     "dir %d, fast %d: stalled, the command coming closer", dir, fast);
+        }
     }
 }
 
