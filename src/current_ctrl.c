@@ -3,12 +3,8 @@
 
 void foc_cc_init(foc_current_ctrl_t *cc)
 {
-    foc_pi_init(&cc->pi_d, FOC_CURRENT_KP_MANT, FOC_CURRENT_KP_SHIFT,
-                FOC_CURRENT_KI, 0, FOC_CURRENT_KC, (q15_t)-FOC_VOLTAGE_LIMIT,
-                FOC_VOLTAGE_LIMIT);
-    foc_pi_init(&cc->pi_q, FOC_CURRENT_KP_MANT, FOC_CURRENT_KP_SHIFT,
-                FOC_CURRENT_KI, 0, FOC_CURRENT_KC, (q15_t)-FOC_VOLTAGE_LIMIT,
-                FOC_VOLTAGE_LIMIT);
+    foc_pi_init(&cc->pi_d, (q15_t)-FOC_VOLTAGE_LIMIT, FOC_VOLTAGE_LIMIT);
+    foc_pi_init(&cc->pi_q, (q15_t)-FOC_VOLTAGE_LIMIT, FOC_VOLTAGE_LIMIT);
     cc->pull_integ = 0;
     cc->ff_speed = 0;
 }

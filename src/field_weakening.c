@@ -31,11 +31,13 @@ FOC_STATIC_ASSERT(sizeof id_table / sizeof id_table[0] == FOC_FW_TABLE_SIZE &&
                   sizeof ls_table / sizeof ls_table[0] == FOC_FW_TABLE_SIZE,
                   "FW_ID_TABLE, FW_INVKFI_TABLE and FW_LS_TABLE need 18 entries each");
 
+static const foc_pi_gains_t fw_gains =
+    FOC_PI_GAINS(FOC_FW_KP_MANT, FOC_FW_KP_SHIFT, FOC_FW_KI, 0, FOC_FW_KC);
+
 void foc_fw_init(foc_fw_t *fw)
 {
     fw->mode = FW_MODE;
-    foc_pi_init(&fw->pi, FOC_FW_KP_MANT, FOC_FW_KP_SHIFT, FOC_FW_KI, 0, FOC_FW_KC,
-                (q15_t)-FOC_FW_ID_MAX, 0);
+    foc_pi_init(&fw->pi, (q15_t)-FOC_FW_ID_MAX, 0);
     foc_fw_reset(fw);
 }
 
@@ -84,7 +86,7 @@ q15_t foc_fw_step(foc_fw_t *fw, q15_t speed_ref, q15_t v_mag, q15_t v_max)
     }
     case FW_MODE_VOLTAGE: {
         const q15_t target = foc_mul_q15(v_max, FOC_FW_MARGIN);
-        fw->id_ref = foc_pi_step(&fw->pi, foc_sub_q15(target, v_mag));
+        fw->id_ref = foc_pi_step(&fw->pi, &fw_gains, foc_sub_q15(target, v_mag));
         break;
     }
     default:

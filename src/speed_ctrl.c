@@ -2,14 +2,16 @@
 #include "foc/config.h"
 #include "foc/sqrt.h"
 
+static const foc_pi_gains_t speed_gains = FOC_PI_GAINS(
+    FOC_SPEED_KP_MANT, FOC_SPEED_KP_SHIFT, FOC_SPEED_KI_MANT, FOC_SPEED_KI_SHIFT, FOC_SPEED_KC);
+
 void foc_sc_init(foc_speed_ctrl_t *sc)
 {
     sc->target = 0;
     sc->ramped = 0;
     sc->ramped15 = 0;
     sc->step15 = FOC_SPEED_RAMP_STEP15;
-    foc_pi_init(&sc->pi, FOC_SPEED_KP_MANT, FOC_SPEED_KP_SHIFT, FOC_SPEED_KI_MANT, FOC_SPEED_KI_SHIFT,
-                FOC_SPEED_KC, (q15_t)-FOC_CURRENT_LIMIT, FOC_CURRENT_LIMIT);
+    foc_pi_init(&sc->pi, (q15_t)-FOC_CURRENT_LIMIT, FOC_CURRENT_LIMIT);
 }
 
 void foc_sc_preset(foc_speed_ctrl_t *sc, q15_t speed_meas, q15_t iq_now)
@@ -52,5 +54,5 @@ q15_t foc_sc_step(foc_speed_ctrl_t *sc, q15_t speed_meas, q15_t id_ref)
                                           : target15;
     sc->ramped = (q15_t)(sc->ramped15 >> 15);
     foc_pi_set_limits(&sc->pi, (q15_t)-iq_max, iq_max);
-    return foc_pi_step(&sc->pi, foc_sub_q15(sc->ramped, speed_meas));
+    return foc_pi_step(&sc->pi, &speed_gains, foc_sub_q15(sc->ramped, speed_meas));
 }

@@ -24,6 +24,10 @@ typedef struct {
                       /* SPEED_BASE_RPM */
 } foc_current_ctrl_t;
 
+/* Both axes' gains (config.h), constants the inline steps fold. */
+static const foc_pi_gains_t foc_cc_gains =
+    FOC_PI_GAINS(FOC_CURRENT_KP_MANT, FOC_CURRENT_KP_SHIFT, FOC_CURRENT_KI, 0, FOC_CURRENT_KC);
+
 /* Inside its band the pull's integral leaks away in 2^FOC_CC_PULL_LEAK_BITS
  * periods (3.2 ms at 20 kHz): once the rotor is back in step the forced
  * voltage acts alone again. */
@@ -65,7 +69,7 @@ static inline q15_t foc_cc_d_axis(foc_current_ctrl_t *cc, q15_t id_ref, q15_t id
 {
     cc->pi_d.integ -= (int32_t)step * FOC_CURRENT_KREF_Q30;
     foc_pi_limit_next(&cc->pi_d, v_max);
-    return foc_pi_step(&cc->pi_d, foc_sub_q15(id_ref, id_meas));
+    return foc_pi_step(&cc->pi_d, &foc_cc_gains, foc_sub_q15(id_ref, id_meas));
 }
 
 /* The q axis of one PWM period, after the d axis gave vd: the PI on the
@@ -76,12 +80,12 @@ static inline q15_t foc_cc_q_axis(foc_current_ctrl_t *cc, q15_t iq_ref, q15_t iq
 {
     cc->pi_q.integ -= (int32_t)step * FOC_CURRENT_KREF_Q30;
     const q15_t e_q = foc_sub_q15(iq_ref, iq_meas);
-    const int32_t u_q = foc_pi_unsat(&cc->pi_q, e_q);
+    const int32_t u_q = foc_pi_unsat(&cc->pi_q, &foc_cc_gains, e_q);
     const q15_t candidate = (u_q > v_max) ? v_max : (u_q < -v_max) ? (q15_t)-v_max : (q15_t)u_q;
     const q15_t vq_max = foc_cc_outside(v_max, vd, candidate) ? foc_cc_circle_q(v_max, vd)
                                                                : v_max;
     foc_pi_limit_next(&cc->pi_q, vq_max);
-    return foc_pi_finish(&cc->pi_q, e_q, u_q);
+    return foc_pi_finish(&cc->pi_q, &foc_cc_gains, e_q, u_q);
 }
 
 /* The q axis with the q voltage given instead of regulated: `vq` limited
@@ -104,13 +108,13 @@ static inline q15_t foc_cc_q_forced(foc_current_ctrl_t *cc, q15_t vq, q15_t iq_m
     const q15_t excess = foc_sub_q15(iq_free, iq_meas); /* 0 inside the band */
     if (excess != 0) {
         /* |pull_integ| <= 2^30 before, |Ki e| <= 2^30: no overflow */
-        cc->pull_integ += foc_pi_ki_term(&cc->pi_q, excess);
+        cc->pull_integ += foc_pi_ki_term(&foc_cc_gains, excess);
         const q31_t lim = FOC_PI_Q15_TO_Q30(v_max);
         cc->pull_integ = (cc->pull_integ > lim) ? lim : (cc->pull_integ < -lim) ? -lim : cc->pull_integ;
     } else {
         cc->pull_integ -= cc->pull_integ >> FOC_CC_PULL_LEAK_BITS;
     }
-    const q15_t pull = foc_add_q15(foc_sat_q15(foc_pi_kp_term(&cc->pi_q, excess)),
+    const q15_t pull = foc_add_q15(foc_sat_q15(foc_pi_kp_term(&foc_cc_gains, excess)),
                                    (q15_t)(cc->pull_integ >> 15));
     vq = foc_add_q15(vq, pull);
     vq = (vq > v_max) ? v_max : (vq < -v_max) ? (q15_t)-v_max : vq;

@@ -15,7 +15,10 @@
  *
  * Gains: Kp = kp * 2^kp_shift / 32768 (kp Q15, kp_shift 0..15) so gains
  * above 1 are possible; Ki = ki * 2^ki_shift / 32768 and Kc are Q15 (per
- * execution), in [0, 32767].  Error, output and limits are Q15; the
+ * execution), in [0, 32767].  They are constants of the build (config.h),
+ * held apart from the state in a `static const` foc_pi_gains_t: the inline
+ * steps then fold them into immediates and constant shifts, and the state
+ * in RAM is the integrator and the limits.  Error, output and limits are Q15; the
  * integrator is Q30 (the Q15 value times 2^15, with 15 fraction bits: the
  * Q30 products Ki e and Kc (y - u) add to it exactly).  It is kept within
  * the output range, |I| <= 2^30, so adding a product (< 2^30) cannot
@@ -28,19 +31,25 @@
 #include "foc/q15.h"
 
 typedef struct {
-    q31_t integ;       /* integrator, Q30 */
     q15_t kp;          /* proportional gain mantissa, Q15 */
     q15_t ki;          /* integral gain per execution, mantissa, Q15 */
     q15_t kc;          /* anti-windup back-calculation gain, Q15 */
-    q15_t out_min;     /* output limits, Q15, out_min <= out_max */
-    q15_t out_max;
     uint8_t kp_rshift; /* 15 - kp_shift: the product's right shift */
     uint8_t ki_shift;  /* integral gain exponent, 0..15 */
-} foc_pi_q15_t;        /* 16 bytes: the 32-bit field first, no padding */
+} foc_pi_gains_t;
 
-/* Sets gains and limits, clears the integrator. */
-void foc_pi_init(foc_pi_q15_t *pi, q15_t kp, uint8_t kp_shift, q15_t ki,
-                 uint8_t ki_shift, q15_t kc, q15_t out_min, q15_t out_max);
+/* A gains initialiser from the mantissas and exponents above. */
+#define FOC_PI_GAINS(kp, kp_shift, ki, ki_shift, kc) \
+    { (kp), (ki), (kc), (uint8_t)(15u - (kp_shift)), (uint8_t)(ki_shift) }
+
+typedef struct {
+    q31_t integ;   /* integrator, Q30 */
+    q15_t out_min; /* output limits, Q15, out_min <= out_max */
+    q15_t out_max;
+} foc_pi_q15_t;    /* 8 bytes */
+
+/* Sets the limits, clears the integrator (within the limits). */
+void foc_pi_init(foc_pi_q15_t *pi, q15_t out_min, q15_t out_max);
 
 /* Integrator (Q30) of a Q15 value. */
 #define FOC_PI_Q15_TO_Q30(x) ((int32_t)(x) * 32768)
@@ -94,36 +103,36 @@ static inline void foc_pi_preset(foc_pi_q15_t *pi, q15_t y0)
 
 /* Kp e, Q15 held in 32 bits (not saturated): the Q30 product shifted
  * right by 15 - kp_shift, rounded; |Kp e| <= 2^30. */
-static inline int32_t foc_pi_kp_term(const foc_pi_q15_t *pi, q15_t e)
+static inline int32_t foc_pi_kp_term(const foc_pi_gains_t *g, q15_t e)
 {
-    const int32_t half = ((int32_t)1 << pi->kp_rshift) >> 1; /* 0 for no shift */
-    return ((int32_t)pi->kp * (int32_t)e + half) >> pi->kp_rshift;
+    const int32_t half = ((int32_t)1 << g->kp_rshift) >> 1; /* 0 for no shift */
+    return ((int32_t)g->kp * (int32_t)e + half) >> g->kp_rshift;
 }
 
 /* I + Kp e, the unsaturated output (Q15 held in 32 bits). */
-static inline int32_t foc_pi_unsat(const foc_pi_q15_t *pi, q15_t e)
+static inline int32_t foc_pi_unsat(const foc_pi_q15_t *pi, const foc_pi_gains_t *g, q15_t e)
 {
-    return (pi->integ >> 15) + foc_pi_kp_term(pi, e);
+    return (pi->integ >> 15) + foc_pi_kp_term(g, e);
 }
 
 /* Ki e, Q30, limited to +-2^30 (a step beyond the whole range ends at the
  * limit all the same). */
-static inline int32_t foc_pi_ki_term(const foc_pi_q15_t *pi, q15_t e)
+static inline int32_t foc_pi_ki_term(const foc_pi_gains_t *g, q15_t e)
 {
-    return foc_mul_q30_shift(pi->ki, e, pi->ki_shift);
+    return foc_mul_q30_shift(g->ki, e, g->ki_shift);
 }
 
 /* The rest of an execution once the limits are known: y = u clamped, and
  * I += Ki e + Kc (y - u), then I kept within the output range.  y - u is
  * saturated to Q15: the back-calculation only needs its sign and size up
  * to full scale; it is 0 unless the output is limited. */
-static inline q15_t foc_pi_finish(foc_pi_q15_t *pi, q15_t e, int32_t u)
+static inline q15_t foc_pi_finish(foc_pi_q15_t *pi, const foc_pi_gains_t *g, q15_t e, int32_t u)
 {
     const q15_t y = foc_pi_clamp_out(pi, u);
-    pi->integ += foc_pi_ki_term(pi, e); /* |I| <= 2^30: no overflow */
+    pi->integ += foc_pi_ki_term(g, e); /* |I| <= 2^30: no overflow */
     if (y != u) {
         const q15_t excess = foc_sat_q15((int32_t)y - u);
-        pi->integ = foc_add_q31(pi->integ, (int32_t)pi->kc * (int32_t)excess);
+        pi->integ = foc_add_q31(pi->integ, (int32_t)g->kc * (int32_t)excess);
     }
     foc_pi_clamp_integ(pi);
     return y;
@@ -131,9 +140,9 @@ static inline q15_t foc_pi_finish(foc_pi_q15_t *pi, q15_t e, int32_t u)
 
 /* One execution with error e = reference - feedback; returns the output.
  * Inline: the current loop runs two every PWM period. */
-static inline q15_t foc_pi_step(foc_pi_q15_t *pi, q15_t e)
+static inline q15_t foc_pi_step(foc_pi_q15_t *pi, const foc_pi_gains_t *g, q15_t e)
 {
-    return foc_pi_finish(pi, e, foc_pi_unsat(pi, e));
+    return foc_pi_finish(pi, g, e, foc_pi_unsat(pi, g, e));
 }
 
 #endif /* FOC_PI_H */

@@ -42,6 +42,21 @@ static inline q15_t foc_svm_duty_clamp(int32_t d)
 #endif
 }
 
+/* One phase's duty, Q15: 1/2 plus the offset of its value `u` (Q30) from
+ * the zero sequence `mid`, rounded, clamped to the period. */
+static inline q15_t foc_svm_duty(int32_t u, int32_t mid)
+{
+    return foc_svm_duty_clamp(16384 + ((u - mid + 0x4000) >> 15));
+}
+
+/* The same with the offset scaled by `gain` (Q15 held in 32 bits, the
+ * period over the span beyond the hexagon). */
+static inline q15_t foc_svm_duty_scaled(int32_t u, int32_t mid, int32_t gain)
+{
+    const int32_t offset = (u - mid + 0x4000) >> 15;
+    return foc_svm_duty_clamp(16384 + ((offset * gain + 0x4000) >> 15));
+}
+
 /* Duties for the vector v.  Duty of phase x:
  *   d_x = 1/2 + (v_x - (v_max + v_min) / 2) / sqrt(3)
  * with v_x the phase values of the vector (inverse Clarke) in per-unit of
@@ -54,49 +69,47 @@ static inline foc_duty_t foc_svm_q15(foc_ab_t v)
 {
     /* Phase values over sqrt(3), Q30: u_a = alpha / sqrt(3),
      * u_b,c = -alpha / (2 sqrt(3)) +- beta / 2.  |u| <= |v| / sqrt(3)
-     * <= 0.82 (|v| <= sqrt(2) for Q15 inputs), so < 2^30. */
-    int32_t u[3];
-    u[0] = (int32_t)v.alpha * FOC_INV_SQRT3;
-    u[1] = (int32_t)v.beta * 16384 - (u[0] >> 1);
-    u[2] = -(int32_t)v.beta * 16384 - (u[0] >> 1);
+     * <= 0.82 (|v| <= sqrt(2) for Q15 inputs), so < 2^30.  In registers,
+     * not an array: the phases are named, the loops written out. */
+    const int32_t ua = (int32_t)v.alpha * FOC_INV_SQRT3;
+    const int32_t ub = (int32_t)v.beta * 16384 - (ua >> 1);
+    const int32_t uc = -(int32_t)v.beta * 16384 - (ua >> 1);
 
-    /* Largest and smallest phase; on a tie the later phase wins, which
-     * puts the alpha axis (u_b == u_c) into sectors 1 and 4. */
-    unsigned hi = (u[1] >= u[0]) ? 1u : 0u;
-    unsigned lo = (u[1] <= u[0]) ? 1u : 0u;
-    if (u[2] >= u[hi]) {
+    /* Largest and smallest phase (0 = a, 1 = b, 2 = c) and their values;
+     * on a tie the later phase wins, which puts the alpha axis (u_b ==
+     * u_c) into sectors 1 and 4. */
+    unsigned hi = (ub >= ua) ? 1u : 0u;
+    unsigned lo = (ub <= ua) ? 1u : 0u;
+    int32_t u_hi = (hi != 0u) ? ub : ua;
+    int32_t u_lo = (lo != 0u) ? ub : ua;
+    if (uc >= u_hi) {
         hi = 2u;
+        u_hi = uc;
     }
-    if (u[2] <= u[lo]) {
+    if (uc <= u_lo) {
         lo = 2u;
+        u_lo = uc;
     }
-    const int32_t mid = (u[hi] + u[lo]) >> 1; /* Q30, zero sequence */
-    const int32_t span = u[hi] - u[lo];      /* Q30, duty span, < 2^31 */
+    const int32_t mid = (u_hi + u_lo) >> 1; /* Q30, zero sequence */
+    const int32_t span = u_hi - u_lo;       /* Q30, duty span, < 2^31 */
 
-    /* Duties, Q15: 1/2 plus the offset from the zero sequence (Q30 -> Q15,
-     * rounded), within the period but for the half-LSB rounding at its
+    /* Duties, Q15, within the period but for the half-LSB rounding at its
      * edges, which the clamp trims.  Beyond the hexagon the offsets are
      * scaled by period / span, a Q15 gain held in 32 bits: the values fit
      * a 32/16-bit division (span <= sqrt(2) < 2^16 in Q15, quotient
      * < 2^15). */
-    int32_t d[3];
+    foc_duty_t out;
     if (span > ((int32_t)1 << 30)) {
         const int32_t gain =
             (int32_t)((uint32_t)1 << 30) / (int32_t)((span + 0x4000) >> 15);
-        for (unsigned k = 0u; k < 3u; k++) {
-            const int32_t offset = (u[k] - mid + 0x4000) >> 15;
-            d[k] = 16384 + ((offset * gain + 0x4000) >> 15);
-        }
+        out.a = foc_svm_duty_scaled(ua, mid, gain);
+        out.b = foc_svm_duty_scaled(ub, mid, gain);
+        out.c = foc_svm_duty_scaled(uc, mid, gain);
     } else {
-        for (unsigned k = 0u; k < 3u; k++) {
-            d[k] = 16384 + ((u[k] - mid + 0x4000) >> 15);
-        }
+        out.a = foc_svm_duty(ua, mid);
+        out.b = foc_svm_duty(ub, mid);
+        out.c = foc_svm_duty(uc, mid);
     }
-
-    foc_duty_t out;
-    out.a = foc_svm_duty_clamp(d[0]);
-    out.b = foc_svm_duty_clamp(d[1]);
-    out.c = foc_svm_duty_clamp(d[2]);
     out.sector = foc_svm_sector_of[hi][lo];
     return out;
 }

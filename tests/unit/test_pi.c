@@ -24,11 +24,11 @@ typedef struct {
     int anti_windup;   /* 0: plain PI, unlimited integrator */
 } ref_pi_t;
 
-static ref_pi_t ref_from(const foc_pi_q15_t *pi, int anti_windup)
+static ref_pi_t ref_from(const foc_pi_q15_t *pi, const foc_pi_gains_t *g, int anti_windup)
 {
-    const ref_pi_t r = { pi->kp * ldexp(1.0, 15 - pi->kp_rshift) / 32768.0,
-                         pi->ki * ldexp(1.0, pi->ki_shift) / 32768.0,
-                         anti_windup ? pi->kc / 32768.0 : 0.0,
+    const ref_pi_t r = { g->kp * ldexp(1.0, 15 - g->kp_rshift) / 32768.0,
+                         g->ki * ldexp(1.0, g->ki_shift) / 32768.0,
+                         anti_windup ? g->kc / 32768.0 : 0.0,
                          pi->out_min,
                          pi->out_max,
                          pi->integ / 32768.0,
@@ -80,15 +80,15 @@ static void case_step_response(void)
     double worst = 0.0;
     for (size_t i = 0; i < sizeof runs / sizeof runs[0]; i++) {
         foc_pi_q15_t pi;
-        foc_pi_init(&pi, runs[i].kp, runs[i].shift, runs[i].ki, runs[i].ki_shift, runs[i].kc,
-                    runs[i].lo, runs[i].hi);
-        ref_pi_t ref = ref_from(&pi, 1);
+        const foc_pi_gains_t g = FOC_PI_GAINS(runs[i].kp, runs[i].shift, runs[i].ki, runs[i].ki_shift, runs[i].kc);
+        foc_pi_init(&pi, runs[i].lo, runs[i].hi);
+        ref_pi_t ref = ref_from(&pi, &g, 1);
         double x_fix = 0.0;
         double x_ref = 0.0;
         double run_worst = 0.0;
         for (int n = 0; n < 3000; n++) {
             const q15_t e = foc_sub_q15(runs[i].ref, to_q15(x_fix));
-            const double y_fix = foc_pi_step(&pi, e);
+            const double y_fix = foc_pi_step(&pi, &g, e);
             const double y_ref = ref_step(&ref, runs[i].ref - x_ref);
             run_worst = fmax(run_worst, fabs(y_fix - y_ref));
             x_fix = plant(x_fix, y_fix);
@@ -104,10 +104,10 @@ static void case_step_response(void)
 }
 
 /* Steps until the output leaves out_max after the error reverses. */
-static long leave_steps_fixed(foc_pi_q15_t *pi, q15_t e_back, long limit)
+static long leave_steps_fixed(foc_pi_q15_t *pi, const foc_pi_gains_t *g, q15_t e_back, long limit)
 {
     for (long n = 1; n <= limit; n++) {
-        if (foc_pi_step(pi, e_back) < pi->out_max) {
+        if (foc_pi_step(pi, g, e_back) < pi->out_max) {
             return n;
         }
     }
@@ -139,11 +139,12 @@ static void case_windup_recovery(void)
     const q15_t e_hold = Q15(0.5);
     const q15_t e_back = Q15(-0.05);
     foc_pi_q15_t pi;
-    foc_pi_init(&pi, Q15(0.2), 0, Q15(0.01), 0, Q15(0.1), Q15(-0.5), Q15(0.5));
-    ref_pi_t plain = ref_from(&pi, 0);
+    const foc_pi_gains_t g = FOC_PI_GAINS(Q15(0.2), 0, Q15(0.01), 0, Q15(0.1));
+    foc_pi_init(&pi, Q15(-0.5), Q15(0.5));
+    ref_pi_t plain = ref_from(&pi, &g, 0);
     int saturated = 0;
     for (int n = 0; n < 5000; n++) {
-        saturated += foc_pi_step(&pi, e_hold) == pi.out_max;
+        saturated += foc_pi_step(&pi, &g, e_hold) == pi.out_max;
         ref_step(&plain, e_hold);
     }
     TK_CHECK(saturated >= 4900, "saturated only %d steps", saturated);
@@ -151,7 +152,7 @@ static void case_windup_recovery(void)
     TK_CHECK(fabs(pi.integ / 32768.0 - settled) <= 2.0,
              "integrator %.1f, want %.1f", pi.integ / 32768.0, settled);
 
-    const long fixed = leave_steps_fixed(&pi, e_back, 1000000L);
+    const long fixed = leave_steps_fixed(&pi, &g, e_back, 1000000L);
     const long ref = leave_steps_ref(&plain, e_back, 1000000L);
     printf("pi windup: leaves the limit after %ld step(s); without "
            "anti-windup after %ld\n", fixed, ref);
@@ -166,16 +167,16 @@ static void case_windup_recovery(void)
 static void case_windup_slow_ramp(void)
 {
     foc_pi_q15_t pi;
-    foc_pi_init(&pi, Q15(0.1), 0, Q15(0.002), 0, Q15(0.05), Q15(-0.25),
-                Q15(0.25));
-    ref_pi_t ref = ref_from(&pi, 1);
-    ref_pi_t plain = ref_from(&pi, 0);
+    const foc_pi_gains_t g = FOC_PI_GAINS(Q15(0.1), 0, Q15(0.002), 0, Q15(0.05));
+    foc_pi_init(&pi, Q15(-0.25), Q15(0.25));
+    ref_pi_t ref = ref_from(&pi, &g, 1);
+    ref_pi_t plain = ref_from(&pi, &g, 0);
     for (int n = 0; n < 3000; n++) {
-        foc_pi_step(&pi, Q15(0.5));
+        foc_pi_step(&pi, &g, Q15(0.5));
         ref_step(&ref, Q15(0.5));
         ref_step(&plain, Q15(0.5));
     }
-    TK_CHECK(foc_pi_step(&pi, Q15(0.5)) == pi.out_max, "not saturated");
+    TK_CHECK(foc_pi_step(&pi, &g, Q15(0.5)) == pi.out_max, "not saturated");
     ref_step(&ref, Q15(0.5));
     ref_step(&plain, Q15(0.5));
 
@@ -184,7 +185,7 @@ static void case_windup_slow_ramp(void)
     long leave_plain = -1;
     for (long n = 0; n < 100000 && leave_plain < 0; n++) {
         const double e = fmax(16384.0 - 8.0 * n, -32768.0); /* 0 at 2048 */
-        if (foc_pi_step(&pi, to_q15(e)) < pi.out_max && leave_fix < 0) {
+        if (foc_pi_step(&pi, &g, to_q15(e)) < pi.out_max && leave_fix < 0) {
             leave_fix = n;
         }
         if (ref_step(&ref, e) < ref.hi && leave_ref < 0) {
@@ -208,15 +209,16 @@ static void case_windup_slow_ramp(void)
 static void case_bumpless_preset(void)
 {
     foc_pi_q15_t pi;
-    foc_pi_init(&pi, Q15(0.3), 1, Q15(0.05), 0, Q15(0.1), Q15(-0.8), Q15(0.7));
+    const foc_pi_gains_t g = FOC_PI_GAINS(Q15(0.3), 1, Q15(0.05), 0, Q15(0.1));
+    foc_pi_init(&pi, Q15(-0.8), Q15(0.7));
     for (int32_t y0 = -32768; y0 <= 32767; y0 += 97) {
-        foc_pi_step(&pi, (q15_t)(y0 / 2)); /* disturb the integrator */
+        foc_pi_step(&pi, &g, (q15_t)(y0 / 2)); /* disturb the integrator */
         foc_pi_preset(&pi, (q15_t)y0);
         const int32_t want = (y0 < pi.out_min) ? pi.out_min
                            : (y0 > pi.out_max) ? pi.out_max : y0;
-        const q15_t y = foc_pi_step(&pi, 0);
+        const q15_t y = foc_pi_step(&pi, &g, 0);
         TK_CHECK(abs(y - want) <= 1, "preset %ld: %d", (long)y0, y);
-        TK_CHECK(foc_pi_step(&pi, 0) == y, "preset %ld: drifts", (long)y0);
+        TK_CHECK(foc_pi_step(&pi, &g, 0) == y, "preset %ld: drifts", (long)y0);
     }
 }
 
@@ -227,7 +229,8 @@ static void case_integrator_in_range(void)
     foc_pi_q15_t pi;
     uint32_t s = 1u;
     int errors = 0;
-    foc_pi_init(&pi, Q15(0.9), 3, Q15(0.9), 0, Q15(0.9), Q15(-0.5), Q15(0.5));
+    const foc_pi_gains_t g = FOC_PI_GAINS(Q15(0.9), 3, Q15(0.9), 0, Q15(0.9));
+    foc_pi_init(&pi, Q15(-0.5), Q15(0.5));
     for (int n = 0; n < 200000; n++) {
         s = s * 1664525u + 1013904223u;
         if ((n % 1000) == 0) {
@@ -235,7 +238,7 @@ static void case_integrator_in_range(void)
             const q15_t b = (q15_t)(s & 0xFFFFu);
             foc_pi_set_limits(&pi, a < b ? a : b, a < b ? b : a);
         }
-        const q15_t y = foc_pi_step(&pi, (q15_t)(s >> 16));
+        const q15_t y = foc_pi_step(&pi, &g, (q15_t)(s >> 16));
         const int32_t i15 = pi.integ >> 15;
         if ((y < pi.out_min || y > pi.out_max || i15 < pi.out_min
              || i15 > pi.out_max) && errors++ < 5) {
@@ -245,8 +248,9 @@ static void case_integrator_in_range(void)
     }
     TK_CHECK(errors == 0, "%d violations", errors);
     /* Limits that exclude zero hold the integrator from init on. */
-    foc_pi_init(&pi, Q15(0.5), 0, Q15(0.1), 0, Q15(0.1), Q15(0.2), Q15(0.4));
-    TK_CHECK(foc_pi_step(&pi, 0) == Q15(0.2), "init: %d", foc_pi_step(&pi, 0));
+    const foc_pi_gains_t g_above = FOC_PI_GAINS(Q15(0.5), 0, Q15(0.1), 0, Q15(0.1));
+    foc_pi_init(&pi, Q15(0.2), Q15(0.4));
+    TK_CHECK(foc_pi_step(&pi, &g_above, 0) == Q15(0.2), "init: %d", foc_pi_step(&pi, &g_above, 0));
 }
 
 /* Proportional-only with Kp = kp 2^shift / 32768 for every shift: output
@@ -258,12 +262,13 @@ static void case_kp_shift(void)
     for (size_t k = 0; k < sizeof kps / sizeof kps[0]; k++) {
         for (uint8_t shift = 0; shift <= 15; shift++) {
             foc_pi_q15_t pi;
-            foc_pi_init(&pi, kps[k], shift, 0, 0, 0, Q15_MIN, Q15_MAX);
+            const foc_pi_gains_t g = FOC_PI_GAINS(kps[k], shift, 0, 0, 0);
+            foc_pi_init(&pi, Q15_MIN, Q15_MAX);
             for (int32_t e = -32768; e <= 32767; e += 7) {
                 const double p = floor(kps[k] * ldexp(1.0, shift) * e
                                        / 32768.0 + 0.5);
                 const double want = fmin(fmax(p, -32768.0), 32767.0);
-                const q15_t y = foc_pi_step(&pi, (q15_t)e);
+                const q15_t y = foc_pi_step(&pi, &g, (q15_t)e);
                 if (y != want && errors++ < 5) {
                     TK_CHECK(0, "kp=%d shift=%u e=%ld: %d, want %.0f", kps[k],
                              shift, (long)e, y, want);
@@ -273,8 +278,9 @@ static void case_kp_shift(void)
     }
     TK_CHECK(errors == 0, "%d mismatches", errors);
     foc_pi_q15_t pi;
-    foc_pi_init(&pi, Q15(0.75), 2, 0, 0, 0, Q15_MIN, Q15_MAX); /* Kp = 3 */
-    TK_CHECK(foc_pi_step(&pi, 1000) == 3000, "3 x 1000");
+    const foc_pi_gains_t g = FOC_PI_GAINS(Q15(0.75), 2, 0, 0, 0);
+    foc_pi_init(&pi, Q15_MIN, Q15_MAX); /* Kp = 3 */
+    TK_CHECK(foc_pi_step(&pi, &g, 1000) == 3000, "3 x 1000");
 }
 
 /* Narrowing the limits clamps the integrator at once; widening them again
@@ -282,17 +288,18 @@ static void case_kp_shift(void)
 static void case_set_limits(void)
 {
     foc_pi_q15_t pi;
-    foc_pi_init(&pi, Q15(0.5), 0, Q15(0.01), 0, Q15(0.1), Q15(-0.9), Q15(0.9));
+    const foc_pi_gains_t g = FOC_PI_GAINS(Q15(0.5), 0, Q15(0.01), 0, Q15(0.1));
+    foc_pi_init(&pi, Q15(-0.9), Q15(0.9));
     foc_pi_preset(&pi, Q15(0.8));
     foc_pi_set_limits(&pi, Q15(-0.5), Q15(0.5));
     TK_CHECK((pi.integ >> 15) == Q15(0.5), "I=%ld", (long)(pi.integ >> 15));
-    TK_CHECK(foc_pi_step(&pi, 0) == Q15(0.5), "clamped output");
+    TK_CHECK(foc_pi_step(&pi, &g, 0) == Q15(0.5), "clamped output");
     foc_pi_set_limits(&pi, Q15(-0.9), Q15(0.9));
-    TK_CHECK(foc_pi_step(&pi, 0) == Q15(0.5), "widened: %d",
-             foc_pi_step(&pi, 0));
+    TK_CHECK(foc_pi_step(&pi, &g, 0) == Q15(0.5), "widened: %d",
+             foc_pi_step(&pi, &g, 0));
     foc_pi_set_limits(&pi, Q15(-0.9), Q15(-0.6));
-    TK_CHECK(foc_pi_step(&pi, 0) == Q15(-0.6), "below: %d",
-             foc_pi_step(&pi, 0));
+    TK_CHECK(foc_pi_step(&pi, &g, 0) == Q15(-0.6), "below: %d",
+             foc_pi_step(&pi, &g, 0));
 }
 
 TK_CASES(TK_CASE(case_step_response), TK_CASE(case_windup_recovery),
