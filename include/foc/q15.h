@@ -44,13 +44,14 @@ typedef int32_t q31_t;
  * bit against the host build). */
 static inline q15_t foc_sat_q15_portable(int32_t x)
 {
-    if (x > 32767L) {
-        return Q15_MAX;
+    /* In range when the high half is the low half's sign extension: one
+     * 16-bit compare on a 16-bit machine, where x > 32767 and x < -32768
+     * are two 32-bit compares and two branches (the dsPIC33 estimate). */
+    const q15_t lo = (q15_t)x; /* two's complement: the low half */
+    if ((int32_t)lo == x) {
+        return lo;
     }
-    if (x < -32768L) {
-        return Q15_MIN;
-    }
-    return (q15_t)x;
+    return (x < 0) ? Q15_MIN : Q15_MAX;
 }
 
 static inline q15_t foc_sat_q15(int32_t x)
