@@ -18,11 +18,11 @@
  * execution), in [0, 32767].  They are constants of the build (config.h),
  * held apart from the state in a `static const` foc_pi_gains_t: the inline
  * steps then fold them into immediates and constant shifts, and the state
- * in RAM is the integrator and the limits.  Error, output and limits are Q15; the
- * integrator is Q30 (the Q15 value times 2^15, with 15 fraction bits: the
- * Q30 products Ki e and Kc (y - u) add to it exactly).  It is kept within
- * the output range, |I| <= 2^30, so adding a product (< 2^30) cannot
- * overflow 32 bits.
+ * in RAM is the integrator and the limits.  Error, output and limits are
+ * Q15; the integrator is Q30 (the Q15 value times 2^15, with 15 fraction
+ * bits: the Q30 products Ki e and Kc (y - u) add to it exactly).  It is
+ * kept within the output range, |I| <= 2^30, so adding a product (< 2^30)
+ * cannot overflow 32 bits.
  */
 #ifndef FOC_PI_H
 #define FOC_PI_H
