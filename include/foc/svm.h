@@ -42,19 +42,23 @@ static inline q15_t foc_svm_duty_clamp(int32_t d)
 #endif
 }
 
-/* One phase's duty, Q15: 1/2 plus the offset of its value `u` (Q30) from
- * the zero sequence `mid`, rounded, clamped to the period. */
+/* One phase's offset from the zero sequence `mid`, Q30 -> Q15, rounded. */
+static inline int32_t foc_svm_offset(int32_t u, int32_t mid)
+{
+    return (u - mid + 0x4000) >> 15;
+}
+
+/* One phase's duty, Q15: 1/2 plus its offset, clamped to the period. */
 static inline q15_t foc_svm_duty(int32_t u, int32_t mid)
 {
-    return foc_svm_duty_clamp(16384 + ((u - mid + 0x4000) >> 15));
+    return foc_svm_duty_clamp(16384 + foc_svm_offset(u, mid));
 }
 
 /* The same with the offset scaled by `gain` (Q15 held in 32 bits, the
  * period over the span beyond the hexagon). */
 static inline q15_t foc_svm_duty_scaled(int32_t u, int32_t mid, int32_t gain)
 {
-    const int32_t offset = (u - mid + 0x4000) >> 15;
-    return foc_svm_duty_clamp(16384 + ((offset * gain + 0x4000) >> 15));
+    return foc_svm_duty_clamp(16384 + ((foc_svm_offset(u, mid) * gain + 0x4000) >> 15));
 }
 
 /* Duties for the vector v.  Duty of phase x:

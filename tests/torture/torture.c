@@ -72,6 +72,7 @@
 #define GAIN_RING_N 512            /* ms of true speed kept (>= 2 x 200 ms) */
 #define HEAVY_FRACTION 0.9          /* a load beyond: of Kt x the q limit */
 #define NO_GAIN_IQ_FRACTION 0.75    /* "at the current limit": mean true iq */
+#define BEHIND_FRACTION 0.875       /* behind: below this of the command */
 #define IQ_REF_MAX_A (CURRENT_LIMIT_A * (1.0 - CURRENT_REF_MARGIN))
 #define HUNT_FRACTION 0.5          /* hunting: the true iq swings beyond */
 #define HUNT_SWINGS 8              /* +-this x CURRENT_LIMIT_A this often */
@@ -502,7 +503,7 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
         m->load_nm + m->p.coulomb_nm + m->p.b_nm_per_rad_s * fabs(w) * RAD_S_PER_RPM;
     if (against_nm > HEAVY_FRACTION * kt_nm_per_a(m->p.flux_wb) * IQ_REF_MAX_A ||
         ((st == FOC_STATE_ALIGN || st == FOC_STATE_OPENLOOP) &&
-         m->load_nm + m->p.coulomb_nm > 0.9 * kt_nm_per_a(m->p.flux_wb) * STARTUP_CURRENT_FINAL_A)) {
+         m->load_nm + m->p.coulomb_nm > HEAVY_FRACTION * kt_nm_per_a(m->p.flux_wb) * STARTUP_CURRENT_FINAL_A)) {
         o->last_heavy_t = t;
     }
     /* in RUN, at the current limit toward the command, behind it and not
@@ -520,7 +521,7 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
         const int n = (int)(win_s * 1000.0 + 0.5);
         /* both windows in RUN, where the check runs */
         const int judged = st == FOC_STATE_RUN && t - o->run_since >= 2.0 * win_s;
-        const int behind = wcmd != 0.0 && (fabs(w) < 0.875 * fabs(wcmd) || (w < 0.0) != (wcmd < 0.0));
+        const int behind = wcmd != 0.0 && (fabs(w) < BEHIND_FRACTION * fabs(wcmd) || (w < 0.0) != (wcmd < 0.0));
         if (judged && behind && o->gain_n >= 2 * n) {
             double last = 0.0, prev = 0.0, iq = 0.0;
             for (int k = 1; k <= n; k++) {
