@@ -21,6 +21,9 @@ Formulas (SI units; p pole pairs, psi flux linkage, fs PWM frequency):
   star equivalent      R, L = line-to-line / 2 (star or delta);
                        delta phase values / 3
   Ke (V peak L-L/krpm) = Vrms x sqrt(2) = psi x sqrt(3) x p x 1000 x 2pi/60
+                       = 1000 / Kv (Kv, speed constant: rpm per V peak L-L)
+  flux from Kt         psi = Kt / (1.5 p) per A peak, Kt / (1.5 sqrt(2) p)
+                       per A rms
   top speed            n_top = max(max speed, 2 x nominal speed) (AN1292's
                        field-weakening goal: twice the nominal speed)
   SPEED_BASE_RPM       4/3 n_top rounded up (to 1000 rpm from 1000 rpm on)
@@ -106,6 +109,10 @@ MOTOR_FIELDS = {
     "ke_vpk_ll_per_krpm": "back-EMF constant, V peak line-to-line per 1000 rpm",
     "ke_vrms_ll_per_krpm": "back-EMF constant, V rms line-to-line per 1000 rpm",
     "flux_linkage_wb": "magnet flux linkage, Wb (peak, per phase)",
+    "kv_rpm_per_v": "Kv, rpm per volt of line-to-line peak back-EMF",
+    "speed_constant_rpm_per_v": "speed constant, rpm per volt line-to-line peak (as Kv)",
+    "kt_nm_per_a_rms": "torque constant, Nm per A rms of phase current",
+    "kt_nm_per_a_peak": "torque constant, Nm per A peak of phase current",
     "nominal_speed_rpm": "rated speed, rpm",
     "max_speed_rpm": "maximum speed, rpm",
     "rated_current_a_rms": "rated phase current, A rms",
@@ -139,10 +146,32 @@ BOARD_FIELDS = {
     "notes": "free text for the header of userparms.h",
 }
 
+
+def ke_of_flux(psi, p):
+    """Ke, V peak line-to-line per 1000 rpm, of the flux linkage psi (Wb)."""
+    return psi * SQRT3 * p * 1000.0 * RPM
+
+
+# The back-EMF constant: exactly one of these keys, each turned into Ke (V
+# peak line-to-line per 1000 rpm) from its value v and the pole pairs p.
+# Kv: 1000 rpm give 1000 / Kv V peak line-to-line; Kt = 1.5 p psi per A
+# peak, sqrt(2) times that per A rms.
+KE_KEYS = {
+    "ke_vpk_ll_per_krpm": lambda v, p: v,
+    "ke_vrms_ll_per_krpm": lambda v, p: v * math.sqrt(2.0),
+    "flux_linkage_wb": ke_of_flux,
+    "kv_rpm_per_v": lambda v, p: 1000.0 / v,
+    "speed_constant_rpm_per_v": lambda v, p: 1000.0 / v,
+    "kt_nm_per_a_rms": lambda v, p: ke_of_flux(v / (1.5 * math.sqrt(2.0) * p), p),
+    "kt_nm_per_a_peak": lambda v, p: ke_of_flux(v / (1.5 * p), p),
+}
+
 HINTS = {
     "poles": "give pole_pairs = poles / 2",
-    "rs": "the field is rs_ohm", "ls": "the field is ls_h", "ke": "give "
-    "ke_vpk_ll_per_krpm, ke_vrms_ll_per_krpm or flux_linkage_wb",
+    "rs": "the field is rs_ohm", "ls": "the field is ls_h",
+    "ke": "give one of " + ", ".join(KE_KEYS),
+    "kv": "the field is kv_rpm_per_v",
+    "kt": "give kt_nm_per_a_rms or kt_nm_per_a_peak",
 }
 
 
@@ -240,7 +269,7 @@ class Description:
     def one_of(self, keys):
         given = [k for k in keys if self.has(k)]
         if len(given) != 1:
-            what = "none" if not given else "both " + " and ".join(given)
+            what = "none" if not given else ", ".join(given)
             raise InputError("%s: give exactly one of %s (%s given)" % (
                 self.path + ": [" + self.section + "]", ", ".join(keys), what))
         return given[0]
@@ -276,14 +305,8 @@ def read_motor(path):
         out["ld"] = m.number("ld_h") * factor
         out["lq"] = m.number("lq_h") * factor
     p = out["pole_pairs"]
-    key = m.one_of(["ke_vpk_ll_per_krpm", "ke_vrms_ll_per_krpm", "flux_linkage_wb"])
-    v = m.number(key)
-    if key == "ke_vpk_ll_per_krpm":
-        out["ke"] = v
-    elif key == "ke_vrms_ll_per_krpm":
-        out["ke"] = v * math.sqrt(2.0)
-    else:
-        out["ke"] = v * SQRT3 * p * 1000.0 * RPM
+    key = m.one_of(list(KE_KEYS))
+    out["ke"] = KE_KEYS[key](m.number(key), p)
     out["ke_source"] = "%s = %s" % (key, m.values[key].strip())
     out["nominal"] = m.number("nominal_speed_rpm")
     out["max"] = m.number("max_speed_rpm")
@@ -339,6 +362,10 @@ def read_board(path):
     out["deadtime"] = b.number("deadtime_s", positive=False)
     if out["deadtime"] < 0.0:
         raise InputError("%s: must be >= 0" % b.where("deadtime_s"))
+    if out["deadtime"] == 0.0:
+        print("tune.py: warning: %s = 0: no dead time, so dead-time compensation has "
+              "nothing to compensate (it adds nothing)" % b.where("deadtime_s"),
+              file=sys.stderr)
     if out["deadtime"] * out["fs"] >= 0.1:
         raise InputError("%s = %g s: %.0f %% of the PWM period (1/%g Hz); it must stay under "
                          "10 %%" % (b.where("deadtime_s"), out["deadtime"],
@@ -1147,7 +1174,14 @@ def main(argv=None):
                     raise InputError("%s: [userparms] %s: no such parameter in %s" % (
                         source["path"], name, opt.template))
                 v = literal_value(text)
-                values[name] = (v, 6) if v is not None else (" ".join(text.split()), None)
+                if v is not None and name in values and values[name][1] == 0:
+                    # an integer parameter (pole pairs, ADC bits...): 5.0 is 5
+                    if not math.isfinite(v) or v != int(v):
+                        raise InputError("%s: [userparms] %s = %s: must be a whole number" % (
+                            source["path"], name, text.strip()))
+                    values[name] = (int(v), 0)
+                else:
+                    values[name] = (v, 6) if v is not None else (" ".join(text.split()), None)
         env = resolve(tv, {k: v for k, (v, dg) in values.items() if dg is not None})
         d = derive(env)
         for ok, msg in checks(env, d):

@@ -15,6 +15,7 @@
                                               file reaches RUN, no fault
 """
 
+import math
 import os
 import re
 import subprocess
@@ -139,7 +140,29 @@ BAD = [
      ["no [motor] section"]),
     ("unknown override", [("notes", "notes = x\n[userparms]\nNO_SUCH_PARAM = 1")], [],
      ["[userparms] NO_SUCH_PARAM", "no such parameter"]),
+    ("fractional pole pairs pinned", [("    assumed values", "    x.\n[userparms]\n"
+                                       "MOTOR_POLE_PAIRS = 2.5")], [],
+     ["[userparms] MOTOR_POLE_PAIRS = 2.5", "whole number"]),
+    ("two back-EMF keys, Kv and Kt", [("ke_vpk_ll_per_krpm",
+                                      "kv_rpm_per_v = 138\nkt_nm_per_a_rms = 0.085")], [],
+     ["exactly one of", "(kv_rpm_per_v, kt_nm_per_a_rms given)"]),
+    ("Ke and the speed constant", [("ke_vpk_ll_per_krpm", "ke_vpk_ll_per_krpm = 7.24\n"
+                                    "speed_constant_rpm_per_v = 138")], [],
+     ["exactly one of", "(ke_vpk_ll_per_krpm, speed_constant_rpm_per_v given)"]),
+    ("no back-EMF constant", [("ke_vpk_ll_per_krpm", None)], [],
+     ["exactly one of", "(none given)", "ke_vpk_ll_per_krpm", "ke_vrms_ll_per_krpm",
+      "flux_linkage_wb", "kv_rpm_per_v", "speed_constant_rpm_per_v", "kt_nm_per_a_rms",
+      "kt_nm_per_a_peak"]),
 ]
+# Each of the other back-EMF keys, given instead of the Hurst075's Ke, with
+# a value the tool must refuse.
+for _key in ("kv_rpm_per_v", "speed_constant_rpm_per_v", "kt_nm_per_a_rms",
+             "kt_nm_per_a_peak"):
+    for _raw, _why in (("-138", "must be greater than 0"), ("0", "must be greater than 0"),
+                       ("nan", "not a finite number"), ("138 rpm/V", "not a number")):
+        BAD.append(("%s = %s" % (_key, _raw),
+                    [("ke_vpk_ll_per_krpm", "%s = %s" % (_key, _raw))], [],
+                    ["[motor] %s = %s" % (_key, _raw), _why]))
 
 
 def bad_inputs(work):
@@ -225,6 +248,60 @@ def options(work):
                 "CURRENT_KP_V_PER_A", "SPEED_KP_A_PER_RPM"]
         diff = [(k, ref.get(k), got.get(k)) for k in keys if ref.get(k) != got.get(k)]
         check(not diff, "%s give the same motor (%s)" % (what, diff))
+
+    # Kv, the speed constant, Kt per A rms and per A peak, and the flux
+    # linkage, each worked out here from its definition for the Hurst075
+    # (7.24 V peak line-to-line per 1000 rpm, 5 pole pairs), give the same
+    # file byte for byte.  The same path for all: the header names it.  Only
+    # the report (stdout) says which key was given.
+    p = 5
+    psi = 7.24 / (math.sqrt(3) * p * 1000 * 2 * math.pi / 60)   # Ke = sqrt(3) p psi w
+    kv = 60 / (math.sqrt(3) * 2 * math.pi * p * psi)            # rpm per V peak L-L
+    kt_peak = 1.5 * p * psi                                     # Nm per A peak
+    kt_rms = kt_peak * math.sqrt(2)                             # Nm per A rms
+    same_path = os.path.join(work, "hurst.ini")
+    out = os.path.join(work, "same.h")
+
+    def run_as(text):
+        write(work, "hurst.ini", text)
+        rc, so, se = tune("--motor", same_path, "--board", MCLV, "--out", out)
+        return rc, so, se, read(out) if rc == 0 else None
+
+    rc, so, se, want = run_as(base)
+    check(rc == 0 and se == "", "the Hurst075 copy: exit 0, nothing on stderr (%s)" % se)
+    for key, value in (("kv_rpm_per_v", kv), ("speed_constant_rpm_per_v", kv),
+                       ("kt_nm_per_a_rms", kt_rms), ("kt_nm_per_a_peak", kt_peak),
+                       ("flux_linkage_wb", psi)):
+        line = "%s = %r" % (key, value)
+        rc, so, se, got = run_as(edit(base, "ke_vpk_ll_per_krpm", line))
+        check(rc == 0 and got == want, "%s: the same userparms.h byte for byte (%s)" % (
+            line, se.strip()))
+        check(line in so, "%s: the report names the key" % line)
+    # the conventions are not interchangeable: a Kt per A peak given as per A
+    # rms, a Kv per rms volt given as per peak volt, change the motor
+    for key, value in (("kt_nm_per_a_rms", kt_peak), ("kv_rpm_per_v", kv * math.sqrt(2))):
+        rc, so, se, got = run_as(edit(base, "ke_vpk_ll_per_krpm", "%s = %r" % (key, value)))
+        check(rc == 0 and got != want and
+              defines(got)["MOTOR_KE_VPK_PER_KRPM"] != defines(want)["MOTOR_KE_VPK_PER_KRPM"],
+              "%s = %r (the other convention's value): a different motor" % (key, value))
+
+    # Pole pairs written as 5.0 are 5; a pinned MOTOR_POLE_PAIRS = 4.0 is
+    # written 4 (the template has 5, so not its spelling kept).
+    rc, so, se, got = run_as(edit(base, "pole_pairs", "pole_pairs = 5.0"))
+    check(rc == 0 and got == want, "pole_pairs = 5.0 is 5 (%s)" % se.strip())
+    d = defines(generate(work, write(work, "m.ini", read(LOWL) +
+                                      "\n[userparms]\nMOTOR_POLE_PAIRS = 4.0\n"), LV40K))
+    check(d.get("MOTOR_POLE_PAIRS") == "4", "[userparms] MOTOR_POLE_PAIRS = 4.0 is written 4 "
+          "(%s)" % d.get("MOTOR_POLE_PAIRS"))
+
+    # No dead time: accepted, with a warning, and written as 0.
+    board0 = write(work, "b0.ini", edit(read(MCLV), "deadtime_s", "deadtime_s = 0"))
+    rc, so, se = tune("--motor", HURST, "--board", board0, "--out", out)
+    check(rc == 0 and "warning" in se and "deadtime_s = 0" in se and
+          "nothing to compensate" in se and "error" not in se,
+          "deadtime_s = 0: accepted with a warning (%s)" % se.strip())
+    check(rc == 0 and defines(read(out)).get("PWM_DEADTIME_S") == "0.0",
+          "deadtime_s = 0: PWM_DEADTIME_S 0.0")
 
     # Flags and options.
     text = generate(work, LOWL, LV40K, "--open-loop-functioning", "--tuning",
