@@ -599,13 +599,26 @@ static void identify_ls(foc_ctrl_t *c)
     foc_est_set_ls(&c->est, measured_ratio(ratio));
 }
 
+/* On to RUN at the estimated speed, the speed PI's integrator at `iq`.  A
+ * reversal commanded before (during the start-up, or before a flying
+ * start) begins its ramp-down windows here: without that a caught rotor
+ * braking to its reversal was judged against a window that began in
+ * CATCH, and tripped SPEED_FEEDBACK (tools/flying_start.py: the fan
+ * caught at -900 rpm for +750). */
+static void enter_run(foc_ctrl_t *c, q15_t iq)
+{
+    foc_sc_preset(&c->speed_ctrl, c->est.est_speed, iq);
+    c->start_ticks = 0;
+    c->reversal_speed = foc_abs_q15(c->est.est_speed);
+    enter(c, FOC_STATE_RUN);
+}
+
 /* The rotor caught: RUN at its speed, the probe's d current let go. */
 static void catch_run(foc_ctrl_t *c)
 {
     c->lprobe_req = 0;
     c->i_ref.d = 0;
-    foc_sc_preset(&c->speed_ctrl, c->est.est_speed, 0);
-    enter(c, FOC_STATE_RUN);
+    enter_run(c, 0);
 }
 
 /* CATCH: zero current on the estimator's angle, so the bridge applies
@@ -708,11 +721,7 @@ static void hand_over(foc_ctrl_t *c, uint16_t theta_from)
     c->i_ref.q = rotated.beta;
     post(c, FOC_POST_HANDOVER); /* after i_ref: the fast step starts from it */
     c->handover_id = c->i_ref.d;
-    foc_sc_preset(&c->speed_ctrl, c->est.est_speed, c->i_ref.q);
-    /* a reversal commanded during the start-up begins its windows here */
-    c->start_ticks = 0;
-    c->reversal_speed = foc_abs_q15(c->est.est_speed);
-    enter(c, FOC_STATE_RUN);
+    enter_run(c, c->i_ref.q);
 }
 
 static void startup_tick(foc_ctrl_t *c)
@@ -803,7 +812,10 @@ static void stall_check(foc_ctrl_t *c, uint8_t reversal)
     const uint8_t reliable =
         (uint8_t)(foc_speed_stats_reliable(&c->speed_stats, FOC_STALL_VARIANCE_THRESHOLD) &&
                   mean >= FOC_STARTUP_MIN_SPEED / 2);
-    const uint8_t emf_ok = foc_est_emf_consistent(&c->est, FOC_STALL_EMF_RATIO);
+    const uint8_t motoring = (uint8_t)(((int32_t)c->i_ref.q * c->direction) > 0);
+    const uint8_t emf_ok = foc_est_emf_consistent(
+        &c->est, (motoring != 0u && c->est.kind == FOC_EST_LUENBERGER)
+                     ? FOC_STALL_EMF_RATIO_MOTORING : FOC_STALL_EMF_RATIO);
     /* the statistics' count leaks (2 up, 1 down): the estimate of a rotor
      * slipping poles looks steady for a moment each turn */
     c->unreliable_ticks =

@@ -644,6 +644,17 @@ FOC_STATIC_ASSERT(FOC_NORM_OK(FOC_SOBS_FF_X),
 /* ------------------------------------------------------- supervision -- */
 #define FOC_STALL_VARIANCE_THRESHOLD Q15(STALL_VARIANCE_THRESHOLD)
 #define FOC_STALL_EMF_RATIO Q15(STALL_EMF_RATIO)
+/* Motoring (current along the speed), a resistance above the model's adds
+ * its unknown drop to the back-EMF the Luenberger observer sees: a held
+ * rotor looks like one turning at the drop's worth of speed (torture
+ * 6882).  The stricter ratio applies then; braking, the same drop hides
+ * back-EMF and only STALL_EMF_RATIO is safe from false trips (torture
+ * 4313).  The PLL estimator keeps STALL_EMF_RATIO: its flux tracking may
+ * legitimately take its speed to twice what its EMF implies. */
+#ifndef STALL_EMF_RATIO_MOTORING
+#define STALL_EMF_RATIO_MOTORING 0.7
+#endif
+#define FOC_STALL_EMF_RATIO_MOTORING Q15(STALL_EMF_RATIO_MOTORING)
 #define FOC_OVERVOLTAGE FOC_VDC_Q15(OVERVOLTAGE_V)
 #define FOC_OVERVOLTAGE_HARD FOC_VDC_Q15(1.2 * OVERVOLTAGE_V)
 #define FOC_OVERVOLTAGE_CLEAR FOC_VDC_Q15(OVERVOLTAGE_V - BUS_HYSTERESIS_V)

@@ -27,6 +27,9 @@
  *          #! expect running_or_fault         ends in RUN or with a named fault
  *        exit status 0 when no invariant is violated, no trip is false and
  *        every expectation holds, 1 otherwise
+ *   torture_<motor> --params
+ *        the motor's figures that scripts need (key=value: max speed, rated
+ *        torque, ramp rate, ...), from the userparms.h it is built with
  *   torture_<motor> --selftest
  *        the oracle's own test (ctest): a benign run is clean, each injected
  *        violation is caught by its kind, a seed reproduces its run
@@ -63,6 +66,8 @@
 #define SLIP_DEG 90.0              /* "not following": the estimated angle */
 #define SLIP_WINDOW_S 0.05         /* slipped this far in this time */
 #define EST_WRONG_REL 0.30         /* a trip's cause: |true-est| > 30 % */
+#define EST_ANGLE_WRONG_DEG 30.0   /* or the estimated angle this far off */
+#define EST_ANGLE_WRONG_S 0.1      /* (electrical) for this long in RUN */
 #define NF_GAP_S 0.05              /* gaps shorter than this join stretches */
 #define DET_FAST_S 0.200           /* detection bound above 10 % of max */
 #define DET_SLOW_S 0.500           /* and below */
@@ -357,6 +362,7 @@ typedef struct {
     /* recent history for fault causes */
     double last_lock_t, last_spin_t, last_heavy_t, last_nf_t, last_ov_t, last_uv_t;
     double last_est_wrong_t, last_ol_slip_t, last_start_turning_t, last_oc_t, last_hunt_t;
+    double angle_wrong_since; /* in RUN, the angle EST_ANGLE_WRONG_DEG off */
     /* the speed loop hunting: times of the last HUNT_SWINGS swings of the
      * true iq from one side of +-HUNT_FRACTION x the limit to the other */
     double hunt_t[HUNT_SWINGS];
@@ -403,6 +409,7 @@ static void oracle_init(oracle_t *o)
     o->last_lock_t = o->last_spin_t = o->last_heavy_t = o->last_nf_t = -1e9;
     o->last_ov_t = o->last_uv_t = o->last_ol_slip_t = o->last_start_turning_t = -1e9;
     o->last_oc_t = o->last_est_wrong_t = o->last_no_gain_t = o->last_hunt_t = -1e9;
+    o->angle_wrong_since = -1.0;
     for (int k = 0; k < HUNT_SWINGS; k++) o->hunt_t[k] = -1e9;
 }
 
@@ -567,6 +574,16 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
         fabs(w - west) > fmax(EST_WRONG_REL * fabs(west), STILL_FRACTION * wmax)) {
         o->last_est_wrong_t = t;
     }
+    /* or its angle, held off: the current goes to the wrong axis and the
+     * rotor does not get the torque asked for (seed 6864: the PLL 38 deg
+     * behind a rotor with 1.97 x its resistance, the current on d) */
+    const double angle_err = fmod(r->theta_est_deg - r->theta_e_deg + 540.0, 360.0) - 180.0;
+    if (st == FOC_STATE_RUN && en && fabs(angle_err) > EST_ANGLE_WRONG_DEG) {
+        if (o->angle_wrong_since < 0.0) o->angle_wrong_since = t;
+        if (t - o->angle_wrong_since >= EST_ANGLE_WRONG_S) o->last_est_wrong_t = t;
+    } else {
+        o->angle_wrong_since = -1.0;
+    }
     if (st == FOC_STATE_OPENLOOP && fabs(r->speed_ref_rpm) >= 0.5 * STARTUP_FINAL_SPEED_RPM &&
         fabs(w - r->speed_ref_rpm) > 0.5 * fabs(r->speed_ref_rpm)) {
         o->last_ol_slip_t = t;
@@ -643,7 +660,7 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
     /* 3. a rotor that does not follow: judged in RUN with the bridge on */
     int slipping = 0;
     if (st == FOC_STATE_RUN && en) {
-        const double d = fmod(r->theta_est_deg - r->theta_e_deg + 540.0, 360.0) - 180.0;
+        const double d = angle_err;
         if (o->slip_n == 0 && o->slip_k == 0) {
             o->slip_prev_d = d;
             o->slip_u = d;
@@ -1063,10 +1080,19 @@ int main(int argc, char **argv)
             trace = (int)strtol(argv[++i], NULL, 10);
         } else if (strcmp(argv[i], "--selftest") == 0) {
             return selftest();
+        } else if (strcmp(argv[i], "--params") == 0) {
+            printf("motor=%s max_speed_rpm=%g min_speed_rpm=%g ramp_rpm_per_s=%g "
+                   "current_limit_a=%g rated_current_a=%g rated_torque_nm=%g inertia_kgm2=%g "
+                   "pwm_hz=%g calib_time_s=%g startup_timeout_s=%g\n",
+                   TORTURE_MOTOR, MOTOR_MAX_SPEED_RPM, STARTUP_MIN_SPEED_RPM, SPEED_RAMP_RPM_PER_S,
+                   CURRENT_LIMIT_A, MOTOR_RATED_CURRENT_A,
+                   kt_nm_per_a(FOC_FLUX_WB) * MOTOR_RATED_CURRENT_A, MOTOR_INERTIA_KGM2,
+                   PWM_FREQUENCY_HZ, CALIB_TIME_S, STARTUP_TIMEOUT_S);
+            return 0;
         } else {
             fprintf(stderr,
                     "usage: %s --seed N [--dump FILE.scn] [--trace] | --scenario FILE "
-                    "[--estimator pll|luenberger|flux] [--trace | --trace-every N] | --selftest\n",
+                    "[--estimator pll|luenberger|flux] [--trace | --trace-every N] | --params | --selftest\n",
                     argv[0]);
             return 2;
         }
