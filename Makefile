@@ -11,7 +11,8 @@ BUILD      := build/host
 JOBS       ?= 2
 CMAKE_ARGS := -DFOC_USERPARMS="$(FOC_USERPARMS)"
 
-.PHONY: all test sim configure build core-arm clean torture torture-regress check-torture
+.PHONY: all test sim configure build core-arm clean torture torture-regress check-torture \
+        flying-start
 
 all: build
 
@@ -43,6 +44,11 @@ torture: build
 
 torture-regress: build
 	python3 tools/torture.py --bin $(BUILD)/torture --regress tests/torture/regress
+
+# The flying-start matrix of issue 12 (tools/flying_start.py; about 10
+# minutes on one core: 6 motors x 3 estimators x 8 speeds x 2 loads).
+flying-start: build
+	python3 tools/flying_start.py --bin $(BUILD)/torture --jobs $(JOBS)
 
 # make check's part: the short seeded campaign (seeds 1..200) and the findings
 check-torture: build
