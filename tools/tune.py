@@ -33,7 +33,7 @@ Formulas (SI units; p pole pairs, psi flux linkage, fs PWM frequency):
                        fc = max(1 kHz, electrical frequency at n_top),
                        at most fs/16
   speed PI             Kt = 1.5 p psi; Kp = J wb / Kt, Ki = Kp wb / 4
-                       (default wb = min(600, w_L) rad/s, w_L the
+                       (default wb = min(600, max(150, w_L)) rad/s, w_L the
                        bandwidth an inductance error of 50 % leaves stable:
                        speed_bw_for_inductance_error)
   Luenberger observer  error poles s^2 + (Rs/L - K1) s + K2/L: critically
@@ -82,7 +82,7 @@ RPM = 2.0 * math.pi / 60.0          # rad/s per rpm
 DEFAULT_SPEED_BW = 600.0            # rad/s, unless the motor needs less:
 L_ERROR_ENVELOPE = 0.5              # |plant L / parameter - 1| the estimators must bear
 SPEED_LAG_PHASE = 0.3               # rad the fake speed of an L error may cost the speed loop
-SPEED_BW_MIN = 150.0                # rad/s: below, a warning (the inductance rule still wins)
+SPEED_BW_MIN = 150.0                # rad/s: slower, the follow checks and the FW lose the loop
 CURRENT_DIST_RATIO = 0.5            # config.h's default: the current PIs' disturbance pole / wc
 DEFAULT_FW_BW = 160.0               # rad/s
 DEFAULT_OBSERVER_BW = 6661.5        # rad/s: ST's K1, K2 on the Hurst075
@@ -609,11 +609,8 @@ def choose(motor, board, opt):
     # speed loop
     wb = opt.speed_bw_rad_s
     if wb is None:
-        # the inductance rule wins over SPEED_BW_MIN: raised above it, the
-        # fan's loop (37 rad/s by the rule, 150 by the floor) hunted at the
-        # current limit on an alignment's Rs 3 % high (a fake speed
-        # dR iq / (p psi) fed back with gain J wb dR / (1.5 p^2 psi^2))
-        wb = min(DEFAULT_SPEED_BW, speed_bw_for_inductance_error(p, psi, j, lq))
+        wb = min(DEFAULT_SPEED_BW,
+                 max(SPEED_BW_MIN, speed_bw_for_inductance_error(p, psi, j, lq)))
     if not 0.0 < wb <= wc / 4.0:
         raise InputError("--speed-bw-rad-s %g: must be in (0, current-loop bandwidth / 4 = "
                          "%.0f rad/s]" % (wb, wc / 4.0))
@@ -674,7 +671,7 @@ def choose(motor, board, opt):
     if opt.estimator:
         out["FOC_ESTIMATOR"] = ("FOC_EST_" + opt.estimator.upper(), None)
 
-    info = {"psi": psi, "kt": kt, "speed_bw": wb, "t_rated": t_rated, "n_top": n_top, "fe_top": fe_top,
+    info = {"psi": psi, "kt": kt, "t_rated": t_rated, "n_top": n_top, "fe_top": fe_top,
             "fc": fc, "wb": wb, "wo": wo, "limit": limit, "estimated": estimated,
             "fw_note": fw_note, "v_base": v_base}
     return out, info
@@ -1202,12 +1199,6 @@ def main(argv=None):
         print("tune.py: nothing written", file=sys.stderr)
         return 1
     print("tune.py: %s on %s" % (motor["name"], board["name"]))
-    if opt.speed_bw_rad_s is None and info["speed_bw"] < SPEED_BW_MIN:
-        print("tune.py: warning: speed loop %.0f rad/s (below %.0f): the inductance error "
-              "envelope (x%.1f..x%.1f) allows no faster loop for this inertia; measured "
-              "inductance and resistance matter (docs/new-motor.md)" % (
-                  info["speed_bw"], SPEED_BW_MIN, 1.0 - L_ERROR_ENVELOPE, 1.0 + L_ERROR_ENVELOPE),
-              file=sys.stderr)
     report(motor, board, env, d, info, sys.stdout)
     if opt.check:
         return 0
