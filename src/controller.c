@@ -574,12 +574,7 @@ static q15_t measured_ratio(int32_t ratio_q14)
 static void identify_rs(foc_ctrl_t *c)
 {
     const q15_t id = c->i_dq.d;
-    /* held still: the current on d at the alignment's (a rotor that still
-     * swings, a heavy one aligned right after a reversal, pulls it off d
-     * and adds its EMF and di/dt to vd: the fan's measure 3-7 % high,
-     * enough for its speed loop to hunt at the current limit) */
-    if ((int32_t)id * 8 < (int32_t)FOC_ALIGN_CURRENT * 7 ||
-        (int32_t)foc_abs_q15(c->i_dq.q) * 8 > (int32_t)FOC_ALIGN_CURRENT) {
+    if (id < FOC_ALIGN_CURRENT / 2) {
         return; /* not held: no measure */
     }
     const int32_t drop = (int32_t)foc_mul_q15_shift(id, FOC_RS_MANT, FOC_RS_SHIFT); /* Rs id */
