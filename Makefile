@@ -315,7 +315,7 @@ bench:
 	@arm-none-eabi-size $(STM32_NAME).elf | awk 'NR == 2 { print "image_flash_bytes=" $$1 + $$2 }' \
 	    > $(BENCH_OUT)/image.txt
 	$(PIL_PY) tools/pil/pil.py run --elf $(STM32_NAME).elf --scenario $(PIL_SCENARIO) \
-	    --focsim $(SHINANO_BUILD)/focsim > $(BENCH_OUT)/pil.txt
+	    --csv $(BENCH_OUT)/pil.csv --focsim $(SHINANO_BUILD)/focsim > $(BENCH_OUT)/pil.txt
 	$(BUILD)/focsim --scenario tools/scenarios/realtime20.scn --time > $(BENCH_OUT)/focsim_time.txt
 	@{ echo ""; echo "STM32 image (make stm32; its interrupt in make pil's run of $(PIL_SCENARIO)," \
 	    "RM0008 wait states; focsim on tools/scenarios/realtime20.scn, no CSV):"; \
