@@ -832,14 +832,23 @@ FOC_STATIC_ASSERT(SAMPLE_DELAY_PERIODS >= 1.0 && SAMPLE_DELAY_PERIODS <= 1.5,
 /* CATCH's probe (controller.c, catch_probe): two one-period shorts of the
  * windings, each after FOC_PROBE_OFF_PERIODS with the bridge off, so
  * FOC_PROBE_SPACING periods apart.  A rotor is taken on the probe when the
- * first short drove at least the current of a rotor at twice
+ * first short drove at least the current of a rotor at
  * STARTUP_MIN_SPEED_RPM (FOC_IREF_STEP_EMF_PU is one period's at that
- * speed; Q15 of the current base, compared squared, / 4 as probe_mag2).
+ * speed), and at least FOC_PROBE_NOISE_CODES ADC codes (2 codes of noise
+ * stay 3 sigma below it); Q15 of the current base, compared squared, / 4
+ * as probe_mag2.  Twice the minimum speed's current (before) let the
+ * Shinano's rotor at 10 % of its maximum speed (400 rpm, 1.25 x its
+ * minimum) slip through to the estimator from rest, which locked too late
+ * (tools/flying_start.py).
  * The speed is the angle turned from one short to the other: the fastest
  * rotor must turn less than half a turn in FOC_PROBE_SPACING periods. */
 #define FOC_PROBE_OFF_PERIODS 4u
 #define FOC_PROBE_SPACING (FOC_PROBE_OFF_PERIODS + 4u)
-#define FOC_PROBE_MIN_CURRENT ((int32_t)(2.0 * FOC_IREF_STEP_EMF_PU))
+#define FOC_PROBE_NOISE_CODES 6.0
+#define FOC_PROBE_NOISE_PU (FOC_PROBE_NOISE_CODES * 65536.0 / (double)(1L << BOARD_ADC_BITS))
+#define FOC_PROBE_MIN_CURRENT                                                  \
+    ((int32_t)(FOC_IREF_STEP_EMF_PU > FOC_PROBE_NOISE_PU ? FOC_IREF_STEP_EMF_PU \
+                                                          : FOC_PROBE_NOISE_PU))
 #define FOC_PROBE_MIN_MAG2 ((FOC_PROBE_MIN_CURRENT * FOC_PROBE_MIN_CURRENT) >> 2)
 #define FOC_PROBE_SPEED_PER_ANGLE_PU (32768.0 / FOC_DTHETA_AT_BASE)
 #define FOC_PROBE_SPEED_MANT FOC_GAIN_MANT(FOC_PROBE_SPEED_PER_ANGLE_PU)
