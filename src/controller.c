@@ -682,7 +682,7 @@ static void catch_tick(foc_ctrl_t *c)
     enter(c, FOC_STATE_ALIGN);
 }
 
-/* ST's convergence test on the estimated speed (seed 002) against the
+/* ST's convergence test on the estimated speed ([ST-FOC]) against the
  * speed the rotor is driven at (`driven`: the forced speed, or the sensor's
  * in a sensored start), plus the back-EMF check that rejects a held rotor
  * the estimator "sees" turning. */

@@ -68,7 +68,7 @@ FOC_STATIC_ASSERT(SLOW_TICK_CYCLES <= 0x1000000ul,
 #define STM32_UPDATE_AT_TOP 1
 #endif
 
-/* NVIC preemption priorities (ST library v2.0, seed 002). */
+/* NVIC preemption priorities (ST library v2.0, docs/references.md [ST-FOC]). */
 #define PRIO_BREAK 0u
 #define PRIO_ADC 1u
 #define PRIO_UPDATE 1u

@@ -249,7 +249,7 @@
 #define FOC_SENSORED_HANDOVER_SPEED FOC_SPEED_Q15(SENSORED_HANDOVER_RPM)
 
 /* --------------------------------------------- Luenberger observer -- */
-/* ST's constants (seed 002) in our bases: ST holds the current in units of
+/* ST's constants ([ST-FOC]) in our bases: ST holds the current in units of
  * Imax (ours: FOC_I_BASE_A), the voltage in Vmax (ours: FOC_V_BASE_V) and
  * the EMF in Emax (ours: the back-EMF at SPEED_BASE_RPM, so an EMF's Q15
  * amplitude equals the speed's Q15 value).  States: current Q15 x F1, EMF

@@ -1,5 +1,5 @@
 /*
- * Flux-linkage position estimator (Wang/Luo/Guo, seed 001) with the
+ * Flux-linkage position estimator (docs/references.md [WLG]) with the
  * closed-loop speed observer of speed_obs.h.
  *
  * Per PWM period k, with v(k-1) the voltage applied between the samples

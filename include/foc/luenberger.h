@@ -1,5 +1,6 @@
 /*
- * Luenberger back-EMF observer + PLL (ST's sensorless scheme, seed 002).
+ * Luenberger back-EMF observer + PLL (ST's sensorless scheme: docs/references.md
+ * [ST-FOC]).
  *
  * Motor model in the stator frame (Ls = (Ld + Lq)/2, e = back-EMF, which
  * rotates with the rotor: e = flux w (-sin theta, cos theta), de/dt = w J e):

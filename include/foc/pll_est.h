@@ -1,5 +1,6 @@
 /*
- * Back-EMF PLL estimator (AN1292, seed 000 equations 1-7).
+ * Back-EMF PLL estimator (Microchip AN1292, equations 1-7: docs/references.md
+ * [AN1292]).
  *
  * Per PWM period k, with the current i(k) just sampled, i(k-1) the previous
  * sample and v(k-1) the voltage applied between them:

@@ -1,5 +1,5 @@
 /*
- * Closed-loop speed observer on the mechanical model (Wang/Luo/Guo, seed 001
+ * Closed-loop speed observer on the mechanical model (docs/references.md [WLG]
  * section 2.2 and figure 1):
  *
  *   J dw/dt = Te - B w - Tl,   Te = 1.5 p flux iq    (eq. 14, B neglected)
