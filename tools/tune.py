@@ -743,8 +743,8 @@ def derive(e):
     d["lsdt_pu"] = lq * ib / (vb * ts)
     d["kfi"] = psi * web / vb
     d["pll_inv_kfi"] = 2.0 / d["kfi"]
-    # Luenberger
-    ls = (ld + lq) / 2.0
+    # Luenberger (its model is on Lq: the extended back-EMF, luenberger.h)
+    ls = lq
     x = rs * ts / ls
     zoh = 1.0 - x / 2.0 + x * x / 6.0 - x ** 3 / 24.0 + x ** 4 / 120.0
     g = x * zoh

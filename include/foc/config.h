@@ -263,8 +263,9 @@
  *   h = speed x C6 / 2^15 (rad, Q16), C6 = 2^16 w_base T
  * then h x e >> (16 - log2 F2), the same product as ST's
  * C6 = F2 F3 2 pi/65536 (speed in 1/65536 turn per period) with
- * F3 = 2^(31 - log2 F2) split into two 16-bit multiplications. */
-#define FOC_LUEN_LS_H ((MOTOR_LD_H + MOTOR_LQ_H) / 2.0)
+ * F3 = 2^(31 - log2 F2) split into two 16-bit multiplications.  Ls is
+ * Lq: the extended-EMF model, exact for a salient rotor (luenberger.h). */
+#define FOC_LUEN_LS_H (MOTOR_LQ_H)
 #define FOC_LUEN_E_BASE_V (FOC_KFI_PU * FOC_V_BASE_V)
 #define FOC_LUEN_X (MOTOR_RS_OHM * FOC_TS_S / FOC_LUEN_LS_H) /* Rs T/Ls */
 /* (1 - exp(-x))/x by its series; error below x^5/720 (x < 0.5) */
