@@ -510,6 +510,21 @@ FOC_STATIC_ASSERT(FOC_NORM_OK(FOC_SOBS_FF_X),
     FOC_I_Q15(FOC_FW_ID_RAW_A(i) > 0.0 ? 0.0                                   \
               : FOC_FW_ID_RAW_A(i) < -FW_ID_MAX_A ? -FW_ID_MAX_A : FOC_FW_ID_RAW_A(i))
 
+/* ------------------------------------------------------------- MTPA -- */
+/* A salient rotor (MOTOR_LQ_H > MOTOR_LD_H) runs on the maximum-torque-
+ * per-ampere d current in RUN (mtpa.h), combined with field weakening's
+ * (the more negative); a round rotor keeps id = 0 below base speed, and
+ * the controller's MTPA code folds away (FOC_SALIENT is a constant).
+ * k = 2 (Lq - Ld) / psi per unit of current, Q12 (< 8).  An inverse-
+ * salient rotor (Ld > Lq) would want a positive d current: not done. */
+#define FOC_SALIENT (MOTOR_LQ_H > MOTOR_LD_H)
+#define FOC_MTPA_K_PU                                                          \
+    (FOC_SALIENT ? 2.0 * (MOTOR_LQ_H - MOTOR_LD_H) * FOC_I_BASE_A / FOC_FLUX_WB : 0.0)
+#define FOC_MTPA_K_Q12 ((q15_t)(FOC_MTPA_K_PU * 4096.0 + 0.5))
+FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
+                  "MTPA: (MOTOR_LQ_H - MOTOR_LD_H) x BOARD_CURRENT_FULL_SCALE_A above 4 x the "
+                  "magnet flux, beyond the MTPA block's format");
+
 /* ------------------------------------------------ dead-time comp. -- */
 /* Phase voltage lost per dead time, Vdc t_dead f_pwm, in per-unit of the
  * voltage base Vdc/sqrt(3) (nominal bus); the soft-sign gain 1/I_soft in
