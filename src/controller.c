@@ -1,6 +1,7 @@
 #include "foc/controller.h"
 #include "foc/config.h"
 #include "foc/deadtime.h"
+#include "foc/mtpa.h"
 #include "foc/scope.h"
 #include "foc/sqrt.h"
 #include "foc/svm.h"
@@ -138,6 +139,7 @@ void foc_init(foc_ctrl_t *c)
     c->opt.deadtime_comp = (uint8_t)(DEADTIME_COMPENSATION != 0);
     c->opt.fault_brake = (uint8_t)(FAULT_BRAKE != 0);
     c->opt.min_speed = FOC_SENSORLESS_MIN_SPEED;
+    c->opt.mtpa = (uint8_t)(FOC_SALIENT != 0);
     foc_faults_clear(&c->faults);
     c->i_ab = zero_ab;
     c->i_dq = zero_dq;
@@ -766,8 +768,24 @@ static void startup_tick(foc_ctrl_t *c)
 
 /* ---------------------------------------------------------- speed loop -- */
 
+/* The d current of a salient rotor: MTPA's for the q current `iq` or
+ * field weakening's `id_fw`, the more negative (below base speed MTPA's,
+ * above it the voltage asks for more).  `id_fw` where there is no MTPA. */
+static q15_t salient_id(const foc_ctrl_t *c, q15_t id_fw, q15_t iq)
+{
+    if (!FOC_SALIENT || c->opt.mtpa == 0u) {
+        return id_fw;
+    }
+    const q15_t id_mtpa = foc_mtpa_id_q15(iq, FOC_MTPA_K_Q12);
+    return (id_mtpa < id_fw) ? id_mtpa : id_fw;
+}
+
 /* Field weakening first (Id takes its share of the current limit, plus the
- * hand-over current fading out), then the speed PI within what is left. */
+ * hand-over current fading out), then the speed PI within what is left.
+ * A salient rotor's MTPA d current follows the speed PI's q current: the
+ * PI's limit takes last tick's share, and the q current is held within
+ * the current limit's circle around the new d current (slow tick: a
+ * square root only on salient rotors). */
 static void speed_loop(foc_ctrl_t *c, q15_t target)
 {
     /* TUNING: the reference creeps toward the command. */
@@ -776,7 +794,7 @@ static void speed_loop(foc_ctrl_t *c, q15_t target)
     const q15_t v_mag = foc_mag_q15(c->v_dq.d, c->v_dq.q);
     const q15_t id_fw = foc_fw_step(&c->fw, c->speed_ctrl.ramped, v_mag, c->bus.v_max);
     c->handover_id = foc_slew_q15(c->handover_id, 0, FOC_HANDOVER_ID_STEP);
-    c->i_ref.d = foc_add_q15(id_fw, c->handover_id);
+    c->i_ref.d = foc_add_q15(salient_id(c, id_fw, c->i_ref.q), c->handover_id);
     foc_est_set_fw(&c->est, c->fw.inv_kfi, c->fw.ls_scale);
     /* Out of voltage (within 1/64 of the limit) with field weakening
      * giving all it has (or off): no faster than now, and say so. */
@@ -788,6 +806,12 @@ static void speed_loop(foc_ctrl_t *c, q15_t target)
         foc_sc_hold(&c->speed_ctrl, c->est.speed);
     }
     c->i_ref.q = foc_sc_step(&c->speed_ctrl, c->est.speed, c->i_ref.d);
+    if (FOC_SALIENT && c->opt.mtpa != 0u) {
+        c->i_ref.d = foc_add_q15(salient_id(c, id_fw, c->i_ref.q), c->handover_id);
+        const q15_t iq_max = foc_sc_iq_limit(c->i_ref.d);
+        c->i_ref.q = (c->i_ref.q > iq_max) ? iq_max
+                     : (c->i_ref.q < -iq_max) ? (q15_t)-iq_max : c->i_ref.q;
+    }
 }
 
 /* Step-out / stall (sensorless): ST's reliability statistic, and the

@@ -19,6 +19,8 @@
  *          #! min_speed_rpm <rpm>             the controller's lowest
  *                                             sensorless command (default
  *                                             SENSORLESS_MIN_SPEED_RPM)
+ *          #! mtpa off                        id = 0 below base speed on a
+ *                                             salient rotor (MTPA's baseline)
  *          #! expect fault                    a named fault must be latched
  *          #! expect state RUN                the final state
  *          #! expect speed <rpm> <tol %>      mean true speed over the last
@@ -30,6 +32,7 @@
  *   torture_<motor> --params
  *        the motor's figures that scripts need (key=value: max speed, rated
  *        torque, ramp rate, ...), from the userparms.h it is built with
+ *        (ld_h, lq_h, flux_wb: the plant's own, which is built from it)
  *   torture_<motor> --selftest
  *        the oracle's own test (ctest): a benign run is clean, each injected
  *        violation is caught by its kind, a seed reproduces its run
@@ -157,6 +160,7 @@ typedef struct {
     int stop_mode;
     double coulomb_nm;
     int min_speed_rpm; /* -1: SENSORLESS_MIN_SPEED_RPM */
+    int mtpa;          /* -1: on for a salient rotor; 0: id = 0 (#! mtpa off) */
     int expect_fault;
     char expect_state[16];
     double expect_speed_rpm, expect_speed_tol;
@@ -186,6 +190,7 @@ static void generate(uint32_t seed, spec_t *sp)
 {
     memset(sp, 0, sizeof *sp);
     sp->min_speed_rpm = -1;
+    sp->mtpa = -1;
     rng_state = 0x5EED0000ull ^ ((uint64_t)seed * 0x100000001B3ull);
     const double wmax = MOTOR_MAX_SPEED_RPM;
     const double t_rated = kt_nm_per_a(FOC_FLUX_WB) * MOTOR_RATED_CURRENT_A;
@@ -787,6 +792,7 @@ static int run_spec(const spec_t *sp, inject_t inj, int trace, result_t *res)
     opt.estimator = sp->est;
     opt.stop_mode = sp->stop_mode;
     opt.min_speed_rpm = sp->min_speed_rpm;
+    opt.mtpa = sp->mtpa;
     if (sim_init(&sim, &opt, &scn, err, sizeof err) != 0) {
         fprintf(stderr, "torture: sim error: %s\n", err);
         scn_free(&scn);
@@ -875,6 +881,8 @@ static int parse_directives(const char *text, spec_t *sp, int *ests, int *nests)
                 sp->coulomb_nm = atof(a);
             } else if (strcmp(key, "min_speed_rpm") == 0) {
                 sp->min_speed_rpm = atoi(a);
+            } else if (strcmp(key, "mtpa") == 0) {
+                sp->mtpa = (strcmp(a, "off") == 0) ? 0 : 1;
             } else if (strcmp(key, "expect") == 0) {
                 if (strcmp(a, "fault") == 0) {
                     sp->expect_fault = 1;
@@ -959,6 +967,7 @@ static int run_scenario_file(const char *path, int est_override, int trace)
     sp.stop_mode = STOP_MODE;
     sp.coulomb_nm = MOTOR_COULOMB_NM;
     sp.min_speed_rpm = -1;
+    sp.mtpa = -1;
     int ests[3], nests;
     if (parse_directives(text, &sp, ests, &nests) != 0) {
         free(text);
@@ -993,6 +1002,7 @@ static int run_scenario_file(const char *path, int est_override, int trace)
 static void benign_spec(spec_t *sp)
 {
     memset(sp, 0, sizeof *sp);
+    sp->mtpa = -1;
     sp->est = FOC_EST_PLL;
     sp->stop_mode = STOP_MODE_RAMP;
     sp->coulomb_nm = MOTOR_COULOMB_NM;
@@ -1083,11 +1093,13 @@ int main(int argc, char **argv)
         } else if (strcmp(argv[i], "--params") == 0) {
             printf("motor=%s max_speed_rpm=%g min_speed_rpm=%g ramp_rpm_per_s=%g "
                    "current_limit_a=%g rated_current_a=%g rated_torque_nm=%g inertia_kgm2=%g "
-                   "pwm_hz=%g calib_time_s=%g startup_timeout_s=%g\n",
+                   "pwm_hz=%g calib_time_s=%g startup_timeout_s=%g nominal_speed_rpm=%g "
+                   "pole_pairs=%d ld_h=%g lq_h=%g flux_wb=%g fw_id_max_a=%g\n",
                    TORTURE_MOTOR, MOTOR_MAX_SPEED_RPM, STARTUP_MIN_SPEED_RPM, SPEED_RAMP_RPM_PER_S,
                    CURRENT_LIMIT_A, MOTOR_RATED_CURRENT_A,
                    kt_nm_per_a(FOC_FLUX_WB) * MOTOR_RATED_CURRENT_A, MOTOR_INERTIA_KGM2,
-                   PWM_FREQUENCY_HZ, CALIB_TIME_S, STARTUP_TIMEOUT_S);
+                   PWM_FREQUENCY_HZ, CALIB_TIME_S, STARTUP_TIMEOUT_S, MOTOR_NOMINAL_SPEED_RPM,
+                   (int)MOTOR_POLE_PAIRS, MOTOR_LD_H, MOTOR_LQ_H, FOC_FLUX_WB, FW_ID_MAX_A);
             return 0;
         } else {
             fprintf(stderr,

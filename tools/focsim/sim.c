@@ -72,6 +72,7 @@ void sim_default_options(sim_options_t *o)
     o->open_loop_only = -1;
     o->tuning = -1;
     o->min_speed_rpm = -1;
+    o->mtpa = -1;
     o->substeps = 0;
 }
 
@@ -134,6 +135,9 @@ int sim_init(sim_t *s, const sim_options_t *o, const scn_t *scn, char *err,
         s->ctrl.opt.min_speed = (q15_t)FOC_SPEED_Q15(o->min_speed_rpm > MOTOR_MAX_SPEED_RPM
                                                          ? MOTOR_MAX_SPEED_RPM
                                                          : (double)o->min_speed_rpm);
+    }
+    if (o->mtpa >= 0) {
+        s->ctrl.opt.mtpa = (uint8_t)(o->mtpa != 0 && FOC_SALIENT);
     }
     if (o->ideal_inverter != 0) {
         s->model.p.deadtime_s = 0.0;

@@ -39,6 +39,7 @@ typedef struct {
     int tuning;             /* 0/1, or -1: TUNING */
     int min_speed_rpm;      /* lowest sensorless command, rpm (0: none), */
                             /* or -1: SENSORLESS_MIN_SPEED_RPM */
+    int mtpa;               /* 0/1, or -1: MTPA on salient rotors (FOC_SALIENT) */
     int substeps;           /* RK4 substeps per PWM period of the model, */
                             /* 0 for its default (4) */
 } sim_options_t;
