@@ -1070,6 +1070,19 @@ def report(motor, board, e, d, info, f):
     ld = e["MOTOR_LD_H"]
     fw_max = "unlimited by the voltage (Ld x FW_ID_MAX_A >= flux)" if ld * idm >= psi else \
         "%.0f rpm" % (vfw / (psi - ld * idm) / p / RPM)
+    # with the q current the current limit leaves beside Id (the voltage
+    # (psi - Ld Id, Lq Iq) x w, resistance aside)
+    i_ref_max = e["CURRENT_LIMIT_A"] * (1.0 - e.get("CURRENT_REF_MARGIN", 0.10))
+    iq_left = math.sqrt(max(0.0, i_ref_max ** 2 - idm ** 2))
+    fw_loaded = vfw / math.hypot(psi - ld * idm, l * iq_left) / p / RPM
+    # MTPA at the rated current (mtpa.h): id = (psi - sqrt(psi^2 + 8 dL^2 I^2)) / (4 dL)
+    dl = l - ld
+    mtpa = None
+    if dl > 0.0:
+        id_m = (psi - math.sqrt(psi * psi + 8.0 * dl * dl * i * i)) / (4.0 * dl)
+        gain = (psi - dl * id_m) * math.sqrt(i * i - id_m * id_m) / (psi * i) - 1.0
+        mtpa = ("MTPA at rated current", "Id %.3g A, torque per ampere +%.2f %% over Id = 0" % (
+            id_m, 100.0 * gain))
     tau = l / rs
     z = sorted(abs(r) for r in roots2(1.0, -(d["det"] + 1.0 - d["k2tb"]), d["det"]))
     rows = [
@@ -1084,9 +1097,12 @@ def report(motor, board, e, d, info, f):
         ("base speed at %.4g V" % e["BOARD_VDC_NOMINAL_V"],
          "%.0f rpm no load, %.0f rpm at rated current (|V| %.3g V)" % (
              w0 / p / RPM, w1 / p / RPM, vlim)),
-        ("max. field-weakening speed", "%s estimate (no load, Id = -%.3g A)%s" % (
+        ("max. field-weakening speed", "%s estimate (no load, Id = -%.3g A)%s; %.0f rpm with "
+         "Iq %.3g A" % (
             fw_max, idm, "" if ld * idm >= psi or vfw / (psi - ld * idm) / p / RPM >=
-            info["n_top"] else "; below the top speed %.0f rpm" % info["n_top"])),
+            info["n_top"] else "; below the top speed %.0f rpm" % info["n_top"],
+            fw_loaded, iq_left)),
+    ] + ([mtpa] if mtpa else []) + [
         ("electrical frequency", "%.1f Hz at %.0f rpm: %.1f PWM periods per turn" % (
             info["fe_top"], info["n_top"], e["PWM_FREQUENCY_HZ"] / info["fe_top"])),
         ("speed base", "%.0f rpm (%.0f electrical degrees per PWM period)" % (
