@@ -139,7 +139,6 @@ void foc_init(foc_ctrl_t *c)
     c->opt.deadtime_comp = (uint8_t)(DEADTIME_COMPENSATION != 0);
     c->opt.fault_brake = (uint8_t)(FAULT_BRAKE != 0);
     c->opt.min_speed = FOC_SENSORLESS_MIN_SPEED;
-    c->opt.mtpa = (uint8_t)(FOC_SALIENT != 0);
     foc_faults_clear(&c->faults);
     c->i_ab = zero_ab;
     c->i_dq = zero_dq;
@@ -773,7 +772,7 @@ static void startup_tick(foc_ctrl_t *c)
  * above it the voltage asks for more).  `id_fw` where there is no MTPA. */
 static q15_t salient_id(const foc_ctrl_t *c, q15_t id_fw, q15_t iq)
 {
-    if (!FOC_SALIENT || c->opt.mtpa == 0u) {
+    if (!FOC_SALIENT || c->fw.mtpa == 0u) {
         return id_fw;
     }
     const q15_t id_mtpa = foc_mtpa_id_q15(iq, FOC_MTPA_K_Q12);
@@ -806,7 +805,7 @@ static void speed_loop(foc_ctrl_t *c, q15_t target)
         foc_sc_hold(&c->speed_ctrl, c->est.speed);
     }
     c->i_ref.q = foc_sc_step(&c->speed_ctrl, c->est.speed, c->i_ref.d);
-    if (FOC_SALIENT && c->opt.mtpa != 0u) {
+    if (FOC_SALIENT && c->fw.mtpa != 0u) {
         c->i_ref.d = foc_add_q15(salient_id(c, id_fw, c->i_ref.q), c->handover_id);
         const q15_t iq_max = foc_sc_iq_limit(c->i_ref.d);
         c->i_ref.q = (c->i_ref.q > iq_max) ? iq_max

@@ -36,7 +36,8 @@ static const foc_pi_gains_t fw_gains =
 
 void foc_fw_init(foc_fw_t *fw)
 {
-    fw->mode = FW_MODE;
+    fw->mode = (uint8_t)FW_MODE;
+    fw->mtpa = (uint8_t)(FOC_SALIENT != 0);
     foc_pi_init(&fw->pi, (q15_t)-FOC_FW_ID_MAX, 0);
     foc_fw_reset(fw);
 }

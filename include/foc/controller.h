@@ -120,8 +120,6 @@ typedef struct {
                             /* (below the safe speed, not for over-current) */
     q15_t min_speed;        /* SENSORLESS_MIN_SPEED_RPM, Q15 of the speed */
                             /* base: sensorless commands raised to it */
-    uint8_t mtpa;           /* MTPA d current in RUN (salient rotors only, */
-                            /* FOC_SALIENT; 0: id = 0 below base speed) */
 } foc_options_t;
 
 typedef struct {

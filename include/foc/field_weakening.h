@@ -31,10 +31,15 @@ typedef struct {
     q15_t id_ref;
     q15_t inv_kfi;     /* for the estimator (nominal outside table mode) */
     q15_t ls_scale;
-    foc_fw_mode_t mode;
+    uint8_t mode;      /* foc_fw_mode_t (one byte: `mtpa` takes the */
+                       /* struct's padding, no RAM for it) */
+    uint8_t mtpa;      /* 1: the controller takes the MTPA d current where */
+                       /* it is more negative (salient rotors, FOC_SALIENT; */
+                       /* changeable in IDLE); 0: id = 0 below base speed */
 } foc_fw_t;
 
-/* Mode from userparms.h (FW_MODE); Id = 0, nominal estimator constants. */
+/* Mode from userparms.h (FW_MODE), MTPA on a salient rotor; Id = 0,
+ * nominal estimator constants. */
 void foc_fw_init(foc_fw_t *fw);
 
 /* Back to Id = 0 (at every start). */

@@ -265,7 +265,7 @@ static const uint8_t phase_sets[4] = {
 static void decode_header(const uint8_t *h, foc_ctrl_t *c)
 {
     (void)foc_est_select(&c->est, (foc_est_kind_t)(h[0] % 4u));
-    c->fw.mode = (foc_fw_mode_t)(h[1] % 3u);
+    c->fw.mode = (uint8_t)(h[1] % 3u);
     c->opt.stop_mode = (foc_stop_mode_t)(h[2] % 3u);
     c->protection.resistor_enabled = (uint8_t)(h[3] & 1u);
     c->opt.sensored_start = (uint8_t)((h[3] >> 1) & 1u);

@@ -146,7 +146,7 @@ int bench_scenario_apply(const bench_scenario_t *s, foc_ctrl_t *c)
     if (foc_est_select(&c->est, (foc_est_kind_t)s->estimator) != 0) {
         return -1;
     }
-    c->fw.mode = (foc_fw_mode_t)s->fw_mode;
+    c->fw.mode = s->fw_mode;
     c->opt.stop_mode = (foc_stop_mode_t)s->stop_mode;
     c->protection.resistor_enabled = s->brake_resistor;
     c->opt.sensored_start = s->sensored_start;

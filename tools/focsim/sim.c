@@ -113,7 +113,7 @@ int sim_init(sim_t *s, const sim_options_t *o, const scn_t *scn, char *err,
         return -1;
     }
     if (o->fw_mode >= 0) {
-        s->ctrl.fw.mode = (foc_fw_mode_t)o->fw_mode;
+        s->ctrl.fw.mode = (uint8_t)o->fw_mode;
     }
     if (o->stop_mode >= 0) {
         s->ctrl.opt.stop_mode = (foc_stop_mode_t)o->stop_mode;
@@ -137,7 +137,7 @@ int sim_init(sim_t *s, const sim_options_t *o, const scn_t *scn, char *err,
                                                          : (double)o->min_speed_rpm);
     }
     if (o->mtpa >= 0) {
-        s->ctrl.opt.mtpa = (uint8_t)(o->mtpa != 0 && FOC_SALIENT);
+        s->ctrl.fw.mtpa = (uint8_t)(o->mtpa != 0 && FOC_SALIENT);
     }
     if (o->ideal_inverter != 0) {
         s->model.p.deadtime_s = 0.0;
