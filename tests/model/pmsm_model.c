@@ -109,6 +109,10 @@ static const double REBASE_ANGLE_RAD = 0.0625;
  * rotation (sin/cos of the state angle was most of the model's time). */
 typedef struct {
     const pmsm_model_t *m;
+    const double *duty;        /* the bridge legs' duties: m->duty, or a */
+                               /* switched segment's 0/1 states */
+    double rs;                 /* winding resistance at its present */
+                               /* temperature, ohm */
     double inv_ld, inv_lq;     /* 1/H */
     double band_per_v;         /* dead-time ripple band per bus volt, A/V */
     double dt_frac;            /* t_dead * f_pwm */
@@ -238,15 +242,31 @@ void pmsm_cos_sin(pmsm_model_t *m, double *cos_theta, double *sin_theta)
     start_cos_sin(m, cos_theta, sin_theta);
 }
 
+/* Winding resistance at its temperature rise: copper's resistance grows
+ * by rs_tempco_per_k per kelvin (0.0039/K near 20 C: IEC 60228's
+ * 0.00393). */
+static double winding_rs_ohm(const pmsm_model_t *m)
+{
+    return m->p.rs_ohm * (1.0 + m->p.rs_tempco_per_k * m->winding_rise_k);
+}
+
+double pmsm_rs_ohm(const pmsm_model_t *m)
+{
+    return winding_rs_ohm(m);
+}
+
 static void integ_init(integ_t *c, pmsm_model_t *m, double theta_e_rad)
 {
     const pmsm_params_t *p = &m->p;
     const double l_h = 0.5 * (p->ld_h + p->lq_h);
     c->m = m;
+    c->duty = m->duty;
+    c->rs = winding_rs_ohm(m);
     c->inv_ld = 1.0 / p->ld_h;
     c->inv_lq = 1.0 / p->lq_h;
     c->band_per_v = (2.0 / 3.0) / (8.0 * l_h * p->pwm_hz);
-    c->dt_frac = p->deadtime_s * p->pwm_hz;
+    /* the switched bridge has its dead time in the segments' states */
+    c->dt_frac = p->switched ? 0.0 : p->deadtime_s * p->pwm_hz;
     c->inv_j = 1.0 / p->j_kgm2;
     c->inv_cap = p->bus_cap_f > 0.0 ? 1.0 / p->bus_cap_f : 0.0;
     c->inv_source_r = p->bus_cap_f > 0.0 ? 1.0 / source_r_ohm(m) : 0.0;
@@ -315,10 +335,71 @@ MODEL_INLINE double friction_nm(const pmsm_model_t *m)
     return m->p.coulomb_nm + m->load_nm;
 }
 
-double pmsm_torque(const pmsm_params_t *p, double id_a, double iq_a)
+/* The magnet's back-EMF per unit electrical speed in the rotor frame,
+ * V s/rad (e_dq = we (kd, kq)).  With 5th and 7th harmonics of h5 and h7
+ * of the fundamental in each phase's EMF,
+ *   e_a = -we flux (sin th + h5 sin 5th + h7 sin 7th),
+ * the 5th (negative sequence) and 7th (positive) both turn at 6 we in the
+ * rotor frame: kd = -flux (h5 + h7) sin 6th, kq = flux (1 + (h7 - h5)
+ * cos 6th).  The magnet's torque is 1.5 p (kd id + kq iq) (power balance
+ * e.i = Te wm), so the harmonics' torque ripple follows from the same
+ * numbers. */
+MODEL_INLINE void magnet_emf_per_speed(const pmsm_params_t *p, double co, double si,
+                                       double *kd, double *kq)
 {
-    return 1.5 * p->pole_pairs *
-           (p->flux_wb * iq_a + (p->ld_h - p->lq_h) * id_a * iq_a);
+    if (p->emf_h5 == 0.0 && p->emf_h7 == 0.0) {
+        *kd = 0.0;
+        *kq = p->flux_wb;
+        return;
+    }
+    /* cos 6th + j sin 6th = (co + j si)^6 */
+    const double c2 = co * co - si * si;
+    const double s2 = 2.0 * co * si;
+    const double c3 = c2 * co - s2 * si;
+    const double s3 = s2 * co + c2 * si;
+    const double c6 = c3 * c3 - s3 * s3;
+    const double s6 = 2.0 * c3 * s3;
+    *kd = -p->flux_wb * (p->emf_h5 + p->emf_h7) * s6;
+    *kq = p->flux_wb * (1.0 + (p->emf_h7 - p->emf_h5) * c6);
+}
+
+/* Cogging torque, N m: -cogging_nm sin(N th_m), N = cogging_periods per
+ * mechanical turn.  N is a multiple of the pole count for any slot count
+ * (LCM(slots, poles)), so it is a function of the electrical angle,
+ * sin((N / p) th_e), with N / p rounded to a whole number; detents at
+ * th_e = 0. */
+MODEL_INLINE double cogging_torque_nm(const pmsm_params_t *p, double theta_e_rad)
+{
+    if (p->cogging_nm == 0.0) {
+        return 0.0;
+    }
+    const double per_electrical = round((double)p->cogging_periods / p->pole_pairs);
+    return -p->cogging_nm * sin(per_electrical * theta_e_rad);
+}
+
+/* Torque on the rotor at electrical angle th (cos and sin given), N m. */
+MODEL_INLINE double rotor_torque(const pmsm_params_t *p, double id_a, double iq_a,
+                                 double theta_e_rad, double co, double si)
+{
+    double kd;
+    double kq;
+    magnet_emf_per_speed(p, co, si, &kd, &kq);
+    return 1.5 * p->pole_pairs * (kq * iq_a + kd * id_a + (p->ld_h - p->lq_h) * id_a * iq_a) +
+           cogging_torque_nm(p, theta_e_rad);
+}
+
+double pmsm_torque(const pmsm_params_t *p, double id_a, double iq_a, double theta_e_rad)
+{
+    return rotor_torque(p, id_a, iq_a, theta_e_rad, cos(theta_e_rad), sin(theta_e_rad));
+}
+
+/* Torque at state x (cos and sin through c's reference angle). */
+static double state_torque(const integ_t *c, const double x[X_COUNT])
+{
+    double co;
+    double si;
+    integ_cos_sin(c, x[X_THETA], &co, &si);
+    return rotor_torque(&c->m->p, x[X_ID], x[X_IQ], x[X_THETA], co, si);
 }
 
 /* The switching bridge in the stator frame, shared by electrical_pwm()
@@ -333,7 +414,7 @@ typedef struct {
 MODEL_INLINE pwm_winding_t pwm_winding(const integ_t *c, const double duty[PHASES],
                                        double inv_band, double vdc, double co, double si,
                                        double id, double iq, double we, double rs, double ld,
-                                       double lq, double flux)
+                                       double lq, double kd, double kq)
 {
     const double i_alpha = id * co - iq * si;
     const double i_beta = id * si + iq * co;
@@ -353,8 +434,8 @@ MODEL_INLINE pwm_winding_t pwm_winding(const integ_t *c, const double duty[PHASE
     w.ud_v = v_alpha * co + v_beta * si;
     w.uq_v = -v_alpha * si + v_beta * co;
     /* winding voltage that would hold the currents constant */
-    const double hold_d = rs * id - we * lq * iq;
-    const double hold_q = rs * iq + we * (ld * id + flux);
+    const double hold_d = rs * id - we * lq * iq + we * kd;
+    const double hold_q = rs * iq + we * (ld * id + kq);
     w.did_dt = (w.ud_v - hold_d) * c->inv_ld;
     w.diq_dt = (w.uq_v - hold_q) * c->inv_lq;
     w.bus_current_a = 0.0;
@@ -379,8 +460,11 @@ MODEL_INLINE electrical_t electrical_pwm(const integ_t *c, const double x[X_COUN
     double co;
     double si;
     integ_cos_sin(c, x[X_THETA], &co, &si);
-    const pwm_winding_t w = pwm_winding(c, m->duty, deadtime_inv_band(c, vdc), vdc, co, si, id,
-                                        iq, we, p->rs_ohm, p->ld_h, p->lq_h, p->flux_wb);
+    double kd;
+    double kq;
+    magnet_emf_per_speed(p, co, si, &kd, &kq);
+    const pwm_winding_t w = pwm_winding(c, c->duty, deadtime_inv_band(c, vdc), vdc, co, si, id,
+                                        iq, we, c->rs, p->ld_h, p->lq_h, kd, kq);
     electrical_t e = { 0 };
     e.ud_v = w.ud_v;
     e.uq_v = w.uq_v;
@@ -403,22 +487,27 @@ static electrical_t electrical(const integ_t *c, const discrete_mode_t *dm,
     if (m->bridge == PMSM_BRIDGE_PWM) {
         return electrical_pwm(c, x);
     }
+    double co;
+    double si;
+    integ_cos_sin(c, x[X_THETA], &co, &si);
+    double kd;
+    double kq;
+    magnet_emf_per_speed(p, co, si, &kd, &kq);
+    /* winding voltage that would hold the currents constant */
+    const double hold_d = c->rs * id - we * p->lq_h * iq + we * kd;
+    const double hold_q = c->rs * iq + we * (p->ld_h * id + kq);
     if (m->bridge == PMSM_BRIDGE_OFF && dm->diode[0] == 0 && dm->diode[1] == 0 &&
         dm->diode[2] == 0) {
         /* every phase blocked: what the general case below gives, without
          * the phase axes it does not use then */
         electrical_t e = { 0 };
-        e.ud_v = p->rs_ohm * id - we * p->lq_h * iq;
-        e.uq_v = p->rs_ohm * iq + we * (p->ld_h * id + p->flux_wb);
+        e.ud_v = hold_d;
+        e.uq_v = hold_q;
         return e;
     }
-    const phase_axes_t ax = integ_axes(c, x[X_THETA]);
+    const phase_axes_t ax = axes_from(co, si);
     double i_ph[PHASES];
     phase_currents(&ax, id, iq, i_ph);
-
-    /* winding voltage that would hold the currents constant */
-    const double hold_d = p->rs_ohm * id - we * p->lq_h * iq;
-    const double hold_q = p->rs_ohm * iq + we * (p->ld_h * id + p->flux_wb);
 
     electrical_t e = { 0 };
     int blocked = -1;
@@ -487,7 +576,7 @@ MODEL_INLINE void derivative(const integ_t *c, const discrete_mode_t *dm,
         dx[X_THETA] = p->pole_pairs * x[X_WM];
     }
     if (m->rotor == PMSM_ROTOR_FREE && dm->motion != 0) {
-        const double te = pmsm_torque(p, x[X_ID], x[X_IQ]);
+        const double te = state_torque(c, x);
         dx[X_WM] = (te - p->b_nm_per_rad_s * x[X_WM] -
                     friction_nm(m) * dm->motion) * c->inv_j;
     }
@@ -527,7 +616,7 @@ MODEL_INLINE void rk4_step(const integ_t *c, const discrete_mode_t *dm,
 typedef struct {
     const integ_t *c;
     double duty[PHASES];
-    double rs, ld, lq, flux, pp, b, inv_j, fric_motion, torque_k, ld_lq;
+    double rs, ld, lq, pp, b, inv_j, fric_motion, torque_k, ld_lq;
     double inv_band;      /* stiff bus: for the step's (constant) voltage */
     int stiff_bus;
     int theta_moves;      /* rotor not locked */
@@ -552,8 +641,11 @@ MODEL_INLINE pwm_dx_t deriv_pwm_s(const pwm_step_t *k, double id, double iq, dou
     double si;
     integ_cos_sin(c, th, &co, &si);
     const double inv_band = k->stiff_bus ? k->inv_band : deadtime_inv_band(c, vdc);
+    double kd;
+    double kq;
+    magnet_emf_per_speed(k->p, co, si, &kd, &kq);
     const pwm_winding_t w =
-        pwm_winding(c, k->duty, inv_band, vdc, co, si, id, iq, we, k->rs, k->ld, k->lq, k->flux);
+        pwm_winding(c, k->duty, inv_band, vdc, co, si, id, iq, we, k->rs, k->ld, k->lq, kd, kq);
     pwm_dx_t dx;
     dx.vd = w.ud_v;
     dx.vq = w.uq_v;
@@ -562,7 +654,8 @@ MODEL_INLINE pwm_dx_t deriv_pwm_s(const pwm_step_t *k, double id, double iq, dou
     dx.th = k->theta_moves ? k->pp * wm : 0.0;
     dx.wm = 0.0;
     if (k->wm_moves) {
-        const double te = k->torque_k * (k->flux * iq + k->ld_lq * id * iq);
+        const double te = k->torque_k * (kq * iq + kd * id + k->ld_lq * id * iq) +
+                          cogging_torque_nm(k->p, th);
         dx.wm = (te - k->b * wm - k->fric_motion) * c->inv_j;
     }
     dx.vdc = 0.0;
@@ -586,12 +679,11 @@ static void rk4_pwm(const integ_t *c, const discrete_mode_t *dm,
     k.m = m;
     k.p = p;
     for (int ph = 0; ph < PHASES; ph++) {
-        k.duty[ph] = m->duty[ph];
+        k.duty[ph] = c->duty[ph];
     }
-    k.rs = p->rs_ohm;
+    k.rs = c->rs;
     k.ld = p->ld_h;
     k.lq = p->lq_h;
-    k.flux = p->flux_wb;
     k.pp = p->pole_pairs;
     k.b = p->b_nm_per_rad_s;
     k.inv_j = c->inv_j;
@@ -650,16 +742,22 @@ static double emf_spread_v(const integ_t *c, const double x[X_COUNT],
                            int *hi, int *lo)
 {
     const pmsm_model_t *m = c->m;
-    const double emf_q_v = m->p.pole_pairs * x[X_WM] * m->p.flux_wb;
+    const double we = m->p.pole_pairs * x[X_WM];
     *hi = 0;
     *lo = 0;
-    if (emf_q_v == 0.0) {
+    if (we == 0.0) {
         return 0.0; /* rotor at rest: what the loop below gives, sooner */
     }
-    const phase_axes_t ax = integ_axes(c, x[X_THETA]);
+    double co;
+    double si;
+    integ_cos_sin(c, x[X_THETA], &co, &si);
+    double kd;
+    double kq;
+    magnet_emf_per_speed(&m->p, co, si, &kd, &kq);
+    const phase_axes_t ax = axes_from(co, si);
     double emf_v[PHASES];
     for (int ph = 0; ph < PHASES; ph++) {
-        emf_v[ph] = emf_q_v * ax.q[ph];
+        emf_v[ph] = we * kq * ax.q[ph] + we * kd * ax.d[ph];
         *hi = emf_v[ph] > emf_v[*hi] ? ph : *hi;
         *lo = emf_v[ph] < emf_v[*lo] ? ph : *lo;
     }
@@ -721,7 +819,7 @@ static discrete_mode_t decide_mode(const integ_t *c, double x[X_COUNT],
         dm.motion = sign_of(x[X_WM]);
         if (dm.motion == 0) {
             /* at rest: breaks away only if the torque beats dry friction */
-            const double te = pmsm_torque(&m->p, x[X_ID], x[X_IQ]);
+            const double te = state_torque(c, x);
             const int breaks_away =
                 fabs(te) > friction_nm(m) || force == GUARD_ROTOR;
             dm.motion = breaks_away ? sign_of(te) : 0;
@@ -763,7 +861,7 @@ static void guards(const integ_t *c, const discrete_mode_t *dm,
         g[GUARD_ROTOR] =
             dm->motion != 0
                 ? dm->motion * x[X_WM]
-                : friction_nm(m) - fabs(pmsm_torque(&m->p, x[X_ID], x[X_IQ]));
+                : friction_nm(m) - fabs(state_torque(c, x));
     }
 }
 
@@ -786,7 +884,7 @@ static int first_crossing(const integ_t *c, const discrete_mode_t *dm,
             const double *xk = k == 0 ? x0 : x1;
             g[k] = dm->motion != 0
                        ? dm->motion * xk[X_WM]
-                       : friction_nm(m) - fabs(pmsm_torque(&m->p, xk[X_ID], xk[X_IQ]));
+                       : friction_nm(m) - fabs(state_torque(c, xk));
         }
         if (g[0] > 0.0 && g[1] <= 0.0) {
             *fraction = g[0] / (g[0] - g[1]);
@@ -934,6 +1032,9 @@ void pmsm_default_params(pmsm_params_t *p)
     p->noise_codes = 0.0;
     p->seed = 1;
     p->substeps = 4;
+    p->cogging_periods = 60; /* 12 slots, 10 poles: LCM = 60 (assumed) */
+    p->thermal_tau_s = 600.0;
+    p->rs_tempco_per_k = 0.0039;
 }
 
 void pmsm_init(pmsm_model_t *m, const pmsm_params_t *p)
@@ -966,25 +1067,188 @@ void pmsm_set_bridge(pmsm_model_t *m, pmsm_bridge_t mode)
     m->bridge_next = mode;
 }
 
-void pmsm_step_period(pmsm_model_t *m)
+/* Records the phase currents of state x in the extremes since the last
+ * sample. */
+static void note_extremes(pmsm_model_t *m, const integ_t *c, const double x[X_COUNT])
+{
+    double co;
+    double si;
+    integ_cos_sin(c, x[X_THETA], &co, &si);
+    const phase_axes_t ax = axes_from(co, si);
+    double i_ph[PHASES];
+    phase_currents(&ax, x[X_ID], x[X_IQ], i_ph);
+    for (int ph = 0; ph < PHASES; ph++) {
+        m->i_min_a[ph] = fmin(m->i_min_a[ph], i_ph[ph]);
+        m->i_max_a[ph] = fmax(m->i_max_a[ph], i_ph[ph]);
+    }
+}
+
+/* Integrates len_s with the active bridge in equal RK4 substeps no longer
+ * than the period's (1 / (pwm_hz x substeps)); a whole period takes
+ * exactly `substeps` of them. */
+static void integrate_span(integ_t *c, double x[X_COUNT], double len_s)
+{
+    const pmsm_params_t *p = &c->m->p;
+    const int n = (int)ceil(len_s * p->pwm_hz * p->substeps - 1e-9);
+    const int steps = n > 1 ? n : 1;
+    const double h = len_s / steps;
+    for (int k = 0; k < steps; k++) {
+        integrate_substep(c, x, h);
+    }
+}
+
+/* Switched bridge: is leg ph's command high at time t into the period?
+ * Centre-aligned PWM with the sampling instant in the middle of the
+ * low-side on-time: the high-side command is centred on mid-period when
+ * the ADC samples at the period start, on the period boundary when it
+ * samples at mid-period (the pattern is periodic: before the start it is
+ * this period's). */
+static int leg_command_high(const pmsm_model_t *m, int ph, double t_s)
+{
+    const double d = m->duty[ph];
+    const double period_s = 1.0 / m->p.pwm_hz;
+    const double from_mid = fabs(t_s - 0.5 * period_s);
+    if (m->p.sample_mid_period) {
+        return from_mid >= 0.5 * (1.0 - d) * period_s;
+    }
+    return from_mid < 0.5 * d * period_s;
+}
+
+/* Switched bridge: what leg ph's terminal is at time t, as a duty of 1
+ * (DC+) or 0 (DC-).  Dead time: a switch turns on deadtime_s after its
+ * command rises and off at once, so during deadtime_s after each command
+ * edge both switches are off and the current's free-wheeling diode sets
+ * the terminal: DC- for a current into the motor (i > 0, or 0), DC+ for
+ * a current out of it.  Average over a period, -sgn(i) Vdc t_dead f_pwm
+ * per leg, the average model's dead-time error. */
+static double leg_state(const pmsm_model_t *m, int ph, double t_s, double i_a)
 {
     const double period_s = 1.0 / m->p.pwm_hz;
-    const double substep_s = period_s / m->p.substeps;
-    double x[X_COUNT] = { m->s.id_a, m->s.iq_a, m->s.wm_rad_s,
-                          m->s.theta_e_rad, m->s.vdc_v, 0.0, 0.0 };
+    const double earlier_s = fmod(t_s - m->p.deadtime_s + period_s, period_s);
+    const int now = leg_command_high(m, ph, t_s);
+    if (now == leg_command_high(m, ph, earlier_s)) {
+        return now;
+    }
+    return i_a < 0.0 ? 1.0 : 0.0;
+}
+
+/* Switched bridge from t0_s to t1_s into the period: split at every
+ * command edge and every end of a dead time, each segment integrated with
+ * its legs fixed at DC+ or DC- (the diode's rail taken from the current
+ * at the segment's start, so a current crossing zero within a dead time
+ * is not located). */
+static void integrate_switched(pmsm_model_t *m, integ_t *c, double x[X_COUNT], double t0_s,
+                               double t1_s)
+{
+    const double period_s = 1.0 / m->p.pwm_hz;
+    double cut[2 + 4 * PHASES];
+    int n = 0;
+    cut[n++] = t0_s;
+    cut[n++] = t1_s;
+    for (int ph = 0; ph < PHASES; ph++) {
+        const double d = m->duty[ph];
+        const double half_w = 0.5 * (m->p.sample_mid_period ? 1.0 - d : d) * period_s;
+        const double edges[2] = { 0.5 * period_s - half_w, 0.5 * period_s + half_w };
+        for (int e = 0; e < 2 && d > 0.0 && d < 1.0; e++) {
+            const double t[2] = { edges[e], fmod(edges[e] + m->p.deadtime_s, period_s) };
+            for (int k = 0; k < 2; k++) {
+                if (t[k] > t0_s && t[k] < t1_s) {
+                    cut[n++] = t[k];
+                }
+            }
+        }
+    }
+    for (int i = 1; i < n; i++) { /* insertion sort of at most 14 times */
+        for (int j = i; j > 0 && cut[j - 1] > cut[j]; j--) {
+            const double tmp = cut[j];
+            cut[j] = cut[j - 1];
+            cut[j - 1] = tmp;
+        }
+    }
+    for (int i = 0; i + 1 < n; i++) {
+        if (!(cut[i + 1] > cut[i])) {
+            continue;
+        }
+        double co;
+        double si;
+        integ_cos_sin(c, x[X_THETA], &co, &si);
+        const phase_axes_t ax = axes_from(co, si);
+        double i_ph[PHASES];
+        phase_currents(&ax, x[X_ID], x[X_IQ], i_ph);
+        const double mid_s = 0.5 * (cut[i] + cut[i + 1]);
+        double legs[PHASES];
+        for (int ph = 0; ph < PHASES; ph++) {
+            legs[ph] = leg_state(m, ph, mid_s, i_ph[ph]);
+        }
+        c->duty = legs;
+        integrate_span(c, x, cut[i + 1] - cut[i]);
+        c->duty = m->duty;
+        note_extremes(m, c, x);
+    }
+}
+/* Integrates the present period from period_pos_s to t_end_s into it. */
+static void advance_to(pmsm_model_t *m, double t_end_s)
+{
+    const double t0_s = m->period_pos_s;
+    if (!(t_end_s > t0_s)) {
+        return;
+    }
+    double x[X_COUNT] = { m->s.id_a, m->s.iq_a, m->s.wm_rad_s, m->s.theta_e_rad,
+                          m->s.vdc_v, m->vd_int_vs, m->vq_int_vs };
     integ_t c;
     integ_init(&c, m, x[X_THETA]);
-    for (int k = 0; k < m->p.substeps; k++) {
-        integrate_substep(&c, x, substep_s);
+    if (m->p.switched && m->bridge == PMSM_BRIDGE_PWM) {
+        integrate_switched(m, &c, x, t0_s, t_end_s);
+    } else {
+        integrate_span(&c, x, t_end_s - t0_s);
+        note_extremes(m, &c, x);
     }
     m->s.id_a = x[X_ID];
     m->s.iq_a = x[X_IQ];
     m->s.wm_rad_s = x[X_WM];
     m->s.theta_e_rad = wrap_angle(x[X_THETA]);
     m->s.vdc_v = x[X_VDC];
-    m->vd_last_v = x[X_VD_INT] / period_s;
-    m->vq_last_v = x[X_VQ_INT] / period_s;
+    m->vd_int_vs = x[X_VD_INT];
+    m->vq_int_vs = x[X_VQ_INT];
+    m->period_pos_s = t_end_s;
+}
+
+/* First-order thermal model of the winding (one node, ambient constant):
+ *   tau d(rise)/dt = Rth P - rise,   P = 1.5 Rs(rise) (id^2 + iq^2),
+ * the copper loss of the amplitude-invariant dq currents at the period's
+ * end (the PWM ripple's share is left out), held over the period, whose
+ * exact step is rise += (Rth P - rise)(1 - exp(-T / tau)).  Steady rise
+ * P Rth.  Off when thermal_r_k_per_w is 0. */
+static void heat_winding(pmsm_model_t *m, double period_s)
+{
+    if (m->p.thermal_r_k_per_w <= 0.0) {
+        return;
+    }
+    const double i2 = m->s.id_a * m->s.id_a + m->s.iq_a * m->s.iq_a;
+    const double loss_w = 1.5 * winding_rs_ohm(m) * i2;
+    const double target_k = m->p.thermal_r_k_per_w * loss_w;
+    m->winding_rise_k += (target_k - m->winding_rise_k) * -expm1(-period_s / m->p.thermal_tau_s);
+}
+
+void pmsm_run_to_sample(pmsm_model_t *m)
+{
+    advance_to(m, m->p.sample_mid_period ? 0.5 / m->p.pwm_hz : 0.0);
+}
+
+void pmsm_step_period(pmsm_model_t *m)
+{
+    const double period_s = 1.0 / m->p.pwm_hz;
+    advance_to(m, period_s);
+    m->vd_last_v = m->vd_int_vs / period_s;
+    m->vq_last_v = m->vq_int_vs / period_s;
+    m->vd_int_vs = 0.0;
+    m->vq_int_vs = 0.0;
+    m->period_pos_s = 0.0;
     m->time_s += period_s;
+    heat_winding(m, period_s);
+    for (int ph = 0; ph < PHASES; ph++) {
+        m->offset_drift_codes[ph] += m->p.offset_drift_codes_per_s[ph] * period_s;
+    }
     m->bridge = m->bridge_next;
     memcpy(m->duty, m->duty_next, sizeof m->duty);
 }
@@ -1008,15 +1272,16 @@ static double gaussian(uint32_t *state)
     return sqrt(-2.0 * log(u1)) * cos(2.0 * PI * u2);
 }
 
-static int32_t adc_code(const pmsm_params_t *p, int ph, double i_a,
+static int32_t adc_code(const pmsm_model_t *m, int ph, double i_a,
                         double noise_codes)
 {
+    const pmsm_params_t *p = &m->p;
     const double half_scale = (double)(1L << (p->adc_bits - 1)); /* 2^(bits-1), exact */
     const double full_code = 2.0 * half_scale - 1.0;
     const double ideal = half_scale +
                          i_a * (1.0 + p->gain_error[ph]) / p->current_fs_a *
                              half_scale +
-                         p->offset_codes[ph] + noise_codes;
+                         p->offset_codes[ph] + m->offset_drift_codes[ph] + noise_codes;
     const double code = floor(ideal + 0.5);
     return (int32_t)(code < 0.0 ? 0.0 : (code > full_code ? full_code : code));
 }
@@ -1040,7 +1305,7 @@ void pmsm_sample(pmsm_model_t *m, pmsm_sample_t *out)
             (void)uniform_open01(&m->rng);
             (void)uniform_open01(&m->rng);
         }
-        code[ph] = adc_code(p, ph, i_ph[ph], noise);
+        code[ph] = adc_code(m, ph, i_ph[ph], noise);
     }
     out->ia_a = i_ph[0];
     out->ib_a = i_ph[1];
@@ -1051,9 +1316,15 @@ void pmsm_sample(pmsm_model_t *m, pmsm_sample_t *out)
     out->vdc_v = m->s.vdc_v;
     out->theta_e_rad = m->s.theta_e_rad;
     out->speed_rpm = m->s.wm_rad_s * 60.0 / (2.0 * PI);
-    out->torque_nm = pmsm_torque(p, m->s.id_a, m->s.iq_a);
+    out->torque_nm = rotor_torque(p, m->s.id_a, m->s.iq_a, m->s.theta_e_rad, co, si);
     out->vd_v = m->vd_last_v;
     out->vq_v = m->vq_last_v;
+    for (int ph = 0; ph < PHASES; ph++) {
+        out->i_min_a[ph] = fmin(m->i_min_a[ph], i_ph[ph]);
+        out->i_max_a[ph] = fmax(m->i_max_a[ph], i_ph[ph]);
+        m->i_min_a[ph] = i_ph[ph];
+        m->i_max_a[ph] = i_ph[ph];
+    }
 }
 
 void pmsm_set_rotor_angle(pmsm_model_t *m, double theta_e_rad)

@@ -86,6 +86,22 @@ typedef struct {
     uint32_t seed;         /* noise seed */
     /* numerics */
     int substeps;          /* RK4 steps per PWM period, >= 1 */
+    /* Plant options (issue 13).  Each default leaves the ideal model above
+     * exactly as it was; "Plant options" below says what each one does. */
+    int switched;          /* 1: the bridge's switching states within */
+                           /* each period; 0: average-value inverter */
+    int sample_mid_period; /* 1: ADC samples at mid-period; 0: at the */
+                           /* period start */
+    double offset_drift_codes_per_s[3]; /* ADC offset drift per phase, */
+                                        /* codes/s from t = 0 */
+    double emf_h5, emf_h7; /* back-EMF 5th and 7th harmonics, fraction */
+                           /* of the fundamental (0.03 = 3 %) */
+    double cogging_nm;     /* cogging torque amplitude, N m (0: none) */
+    int cogging_periods;   /* cogging periods per mechanical turn */
+    double thermal_r_k_per_w; /* winding-to-ambient thermal resistance, */
+                              /* K/W (0: Rs stays at rs_ohm) */
+    double thermal_tau_s;  /* winding thermal time constant, s */
+    double rs_tempco_per_k;/* Rs rise per kelvin (copper 0.0039) */
 } pmsm_params_t;
 
 typedef struct {
@@ -106,6 +122,8 @@ typedef struct {
     double torque_nm;               /* electromagnetic */
     double vd_v, vq_v;              /* average winding voltages applied in */
                                     /* the last period, rotor frame */
+    double i_min_a[3], i_max_a[3];  /* extremes of each phase current since */
+                                    /* the previous sample (see below) */
 } pmsm_sample_t;
 
 typedef struct {
@@ -122,6 +140,16 @@ typedef struct {
     uint32_t rng;               /* noise generator state */
     double vd_last_v, vq_last_v;
     double time_s;
+    double period_pos_s;        /* time into the present period (0 at its */
+                                /* start; the sampling instant after */
+                                /* pmsm_run_to_sample) */
+    double vd_int_vs, vq_int_vs;/* winding-voltage integrals since the */
+                                /* period start, V s */
+    double offset_drift_codes[3]; /* ADC offset drift accumulated so far */
+    double i_min_a[3], i_max_a[3];/* phase-current extremes since the */
+                                  /* last sample */
+    double winding_rise_k;      /* winding temperature above ambient, K */
+                                /* (rs_ohm is the resistance at ambient) */
     /* cos/sin of s.theta_e_rad, computed once per period (internal) */
     int trig_valid;
     double trig_theta, trig_cos, trig_sin;
@@ -141,12 +169,18 @@ void pmsm_init(pmsm_model_t *m, const pmsm_params_t *p);
 void pmsm_set_duties(pmsm_model_t *m, double da, double db, double dc);
 void pmsm_set_bridge(pmsm_model_t *m, pmsm_bridge_t mode);
 
-/* Samples currents/bus at the present instant (start of a period).  Each
- * call draws fresh noise. */
+/* Samples currents/bus at the present instant (the period start, or the
+ * sampling instant after pmsm_run_to_sample).  Each call draws fresh
+ * noise. */
 void pmsm_sample(pmsm_model_t *m, pmsm_sample_t *out);
 
-/* Integrates one PWM period with the active duties/bridge, then makes the
- * latched ones active. */
+/* Integrates the present period from its start up to the ADC's sampling
+ * instant (nothing when it samples at the period start).  A host port
+ * calls it before pmsm_sample; pmsm_step_period then integrates the rest. */
+void pmsm_run_to_sample(pmsm_model_t *m);
+
+/* Integrates the rest of the PWM period with the active duties/bridge,
+ * then makes the latched ones active. */
 void pmsm_step_period(pmsm_model_t *m);
 
 /* Run-time changes (scenario commands). */
@@ -161,7 +195,11 @@ void pmsm_set_brake_resistor(pmsm_model_t *m, int on);
  * pmsm_sample and pmsm_step_period. */
 void pmsm_cos_sin(pmsm_model_t *m, double *cos_theta, double *sin_theta);
 
-/* Electrical torque for the given state (used by tests). */
-double pmsm_torque(const pmsm_params_t *p, double id_a, double iq_a);
+/* Torque on the rotor for the given currents at electrical angle
+ * theta_e (magnet with its EMF harmonics, reluctance, cogging), N m. */
+double pmsm_torque(const pmsm_params_t *p, double id_a, double iq_a, double theta_e_rad);
+
+/* Winding resistance at the present winding temperature, ohm. */
+double pmsm_rs_ohm(const pmsm_model_t *m);
 
 #endif /* PMSM_MODEL_H */

@@ -106,7 +106,7 @@ void pil_state(void *h, double *out)
     out[3] = m->s.vdc_v;
     out[4] = m->s.theta_e_rad;
     out[5] = m->s.wm_rad_s * 60.0 / (2.0 * PI);
-    out[6] = pmsm_torque(&m->p, m->s.id_a, m->s.iq_a);
+    out[6] = pmsm_torque(&m->p, m->s.id_a, m->s.iq_a, m->s.theta_e_rad);
     out[7] = m->s.id_a;
     out[8] = m->s.iq_a;
     out[9] = pl->t_int > 0.0 ? pl->vd_int / pl->t_int : 0.0;
