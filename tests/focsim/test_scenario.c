@@ -245,6 +245,67 @@ static void case_parse_file(void)
              "missing file: \"%s\"", err);
 }
 
+/* The plant options of issue 13: every name parses to its parameter and
+ * value, `realistic` without a value; a value after `realistic`, a gain
+ * of -100 % or less and a zero thermal time constant are errors. */
+static void case_parse_plant_options(void)
+{
+    static const struct {
+        const char *name;
+        scn_plant_t plant;
+        double value;
+    } want[] = {
+        { "switched", SCN_PLANT_SWITCHED, 1 },     { "midsample", SCN_PLANT_MIDSAMPLE, 1 },
+        { "gaina", SCN_PLANT_GAIN_A, 0.02 },       { "gainb", SCN_PLANT_GAIN_B, -0.02 },
+        { "gainc", SCN_PLANT_GAIN_C, 0 },          { "offseta", SCN_PLANT_OFFSET_A, -3 },
+        { "offsetb", SCN_PLANT_OFFSET_B, 2.5 },    { "offsetc", SCN_PLANT_OFFSET_C, 1 },
+        { "drifta", SCN_PLANT_DRIFT_A, 0.5 },      { "driftb", SCN_PLANT_DRIFT_B, -0.5 },
+        { "driftc", SCN_PLANT_DRIFT_C, 0.25 },     { "emf5", SCN_PLANT_EMF5, 0.03 },
+        { "emf7", SCN_PLANT_EMF7, 0.01 },          { "cogging", SCN_PLANT_COGGING, 0.004 },
+        { "coggingperiods", SCN_PLANT_COGGING_PERIODS, 60 },
+        { "rth", SCN_PLANT_RTH, 12 },              { "thermaltau", SCN_PLANT_THERMAL_TAU, 600 },
+        { "realistic", SCN_PLANT_REALISTIC, 0 },
+    };
+    const size_t n = sizeof want / sizeof want[0];
+    for (size_t i = 0; i < n; i++) {
+        char text[64];
+        if (want[i].plant == SCN_PLANT_REALISTIC) {
+            snprintf(text, sizeof text, "0 plant %s\n", want[i].name);
+        } else {
+            snprintf(text, sizeof text, "0 plant %s %g\n", want[i].name, want[i].value);
+        }
+        scn_t s;
+        if (parse_ok(text, &s) != 0) {
+            continue;
+        }
+        TK_CHECK(s.count == 1 && s.events[0].kind == SCN_PLANT &&
+                     s.events[0].plant == want[i].plant && s.events[0].value == want[i].value,
+                 "%s", text);
+        TK_CHECK(strcmp(scn_plant_name(want[i].plant), want[i].name) == 0, "name %s",
+                 want[i].name);
+        scn_free(&s);
+    }
+    static const struct {
+        const char *text;
+        const char *message;
+    } bad[] = {
+        { "0 plant realistic 1\n", "1: 'plant': extra field '1'" },
+        { "0 plant gaina -1\n", "1: plant gaina: must be > -1, got '-1'" },
+        { "0 plant thermaltau 0\n", "1: plant thermaltau: must be > 0, got '0'" },
+        { "0 plant switched\n", "1: 'plant': missing argument" },
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        char err[256] = "";
+        char expect[128];
+        scn_t s;
+        const int rc = scn_parse_text(bad[i].text, "bad.scn", &s, err, sizeof err);
+        snprintf(expect, sizeof expect, "bad.scn:%s", bad[i].message);
+        TK_CHECK(rc == -1, "%s accepted", bad[i].text);
+        TK_CHECK(strncmp(err, expect, strlen(expect)) == 0, "got '%s'", err);
+    }
+}
+
 TK_CASES(TK_CASE(case_parse_all_commands), TK_CASE(case_parse_comments_and_blanks),
          TK_CASE(case_sort_is_stable), TK_CASE(case_end_time),
-         TK_CASE(case_errors_name_the_line), TK_CASE(case_parse_file))
+         TK_CASE(case_errors_name_the_line), TK_CASE(case_parse_file),
+         TK_CASE(case_parse_plant_options))

@@ -18,6 +18,7 @@ typedef struct {
 #define POSITIVE    { 0.0, 1 }
 #define NON_NEG     { 0.0, 0 }
 #define ABOVE_ABS_0 { -273.15, 1 }
+#define ABOVE_MINUS_1 { -1.0, 1 }
 
 /* The time and command words, at most two arguments (plant), and room for
  * the first extra field so that it can be named in the message. */
@@ -51,6 +52,7 @@ static const cmd_spec_t commands[] = {
 typedef struct {
     const char *name;
     bound_t bound;
+    int no_value; /* 1: the parameter takes no value (`plant realistic`) */
 } plant_spec_t;
 
 /* Indexed by scn_plant_t. */
@@ -65,6 +67,24 @@ static const plant_spec_t plant_params[] = {
     [SCN_PLANT_NOISE] = { "noise", NON_NEG },
     [SCN_PLANT_BUSCAP] = { "buscap", NON_NEG },
     [SCN_PLANT_BRAKERES] = { "brakeres", POSITIVE },
+    [SCN_PLANT_SWITCHED] = { "switched", NON_NEG },
+    [SCN_PLANT_MIDSAMPLE] = { "midsample", NON_NEG },
+    [SCN_PLANT_GAIN_A] = { "gaina", ABOVE_MINUS_1 },
+    [SCN_PLANT_GAIN_B] = { "gainb", ABOVE_MINUS_1 },
+    [SCN_PLANT_GAIN_C] = { "gainc", ABOVE_MINUS_1 },
+    [SCN_PLANT_OFFSET_A] = { "offseta", ANY_VALUE },
+    [SCN_PLANT_OFFSET_B] = { "offsetb", ANY_VALUE },
+    [SCN_PLANT_OFFSET_C] = { "offsetc", ANY_VALUE },
+    [SCN_PLANT_DRIFT_A] = { "drifta", ANY_VALUE },
+    [SCN_PLANT_DRIFT_B] = { "driftb", ANY_VALUE },
+    [SCN_PLANT_DRIFT_C] = { "driftc", ANY_VALUE },
+    [SCN_PLANT_EMF5] = { "emf5", NON_NEG },
+    [SCN_PLANT_EMF7] = { "emf7", NON_NEG },
+    [SCN_PLANT_COGGING] = { "cogging", NON_NEG },
+    [SCN_PLANT_COGGING_PERIODS] = { "coggingperiods", POSITIVE },
+    [SCN_PLANT_RTH] = { "rth", NON_NEG },
+    [SCN_PLANT_THERMAL_TAU] = { "thermaltau", POSITIVE },
+    [SCN_PLANT_REALISTIC] = { "realistic", ANY_VALUE, 1 },
 };
 #define NUM_PLANT_PARAMS (sizeof plant_params / sizeof plant_params[0])
 
@@ -188,7 +208,9 @@ static int parse_event(const report_t *r, char *fields[MAX_FIELDS],
     ev->kind = (scn_kind_t)k;
 
     const size_t nargs = nfields - 2;
-    const size_t want = cmd->usage == NULL ? 0 : k == SCN_PLANT ? 2 : 1;
+    const int plant = k == SCN_PLANT && nargs > 0 ? find_plant_param(fields[2]) : -1;
+    const size_t plant_args = plant >= 0 && plant_params[plant].no_value ? 1 : 2;
+    const size_t want = cmd->usage == NULL ? 0 : k == SCN_PLANT ? plant_args : 1;
     if (nargs != want) {
         char usage[64];
         snprintf(usage, sizeof usage, "<t> %s%s%s", cmd->name,
@@ -205,12 +227,15 @@ static int parse_event(const report_t *r, char *fields[MAX_FIELDS],
     if (ev->kind != SCN_PLANT) {
         return parse_number(r, fields[2], cmd->name, cmd->bound, &ev->value);
     }
-    const int p = find_plant_param(fields[2]);
+    const int p = plant;
     if (p < 0) {
-        return fail(r, "unknown plant parameter '%s' (expected rs, ld, lq, "
-                       "flux, j, b, deadtime, noise, buscap or brakeres)", fields[2]);
+        return fail(r, "unknown plant parameter '%s' (expected one of README.md's "
+                       "focsim plant parameters)", fields[2]);
     }
     ev->plant = (scn_plant_t)p;
+    if (plant_params[p].no_value) {
+        return 0;
+    }
     char what[32];
     snprintf(what, sizeof what, "plant %s", plant_params[p].name);
     return parse_number(r, fields[3], what, plant_params[p].bound, &ev->value);

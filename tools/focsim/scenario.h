@@ -24,6 +24,19 @@
  *          deadtime (s, >= 0)  noise (ADC codes sigma, >= 0)
  *          buscap (DC-link capacitance, F, >= 0; 0 = stiff bus)
  *          brakeres (brake resistor, ohm, > 0)
+ *        plant options (README.md, "Plant options"):
+ *          switched (0/1: the bridge's switching states, not the average)
+ *          midsample (0/1: the ADC samples at mid-period, not the start)
+ *          gaina, gainb, gainc (current-sensor gain error, fraction, > -1)
+ *          offseta, offsetb, offsetc (ADC offset step, codes)
+ *          drifta, driftb, driftc (ADC offset drift, codes/s)
+ *          emf5, emf7 (back-EMF harmonic, fraction of the fundamental, >= 0)
+ *          cogging (N m, >= 0)   coggingperiods (per mechanical turn, > 0)
+ *          rth (winding thermal resistance, K/W, >= 0; 0 = Rs constant)
+ *          thermaltau (winding thermal time constant, s, > 0)
+ *   <t> plant realistic        the realistic set: switched, midsample,
+ *          noise 2, the board's dead time, gains +2/-2/0 %, emf5 0.03,
+ *          emf7 0.01 (takes no value)
  *   <t> end                    end of the simulation (at most one)
  *
  * Events are sorted by time; events with equal times keep their file order.
@@ -48,7 +61,13 @@ typedef enum {
 typedef enum {
     SCN_PLANT_RS, SCN_PLANT_LD, SCN_PLANT_LQ, SCN_PLANT_FLUX, SCN_PLANT_J,
     SCN_PLANT_B, SCN_PLANT_DEADTIME, SCN_PLANT_NOISE,
-    SCN_PLANT_BUSCAP, SCN_PLANT_BRAKERES
+    SCN_PLANT_BUSCAP, SCN_PLANT_BRAKERES,
+    SCN_PLANT_SWITCHED, SCN_PLANT_MIDSAMPLE,
+    SCN_PLANT_GAIN_A, SCN_PLANT_GAIN_B, SCN_PLANT_GAIN_C,
+    SCN_PLANT_OFFSET_A, SCN_PLANT_OFFSET_B, SCN_PLANT_OFFSET_C,
+    SCN_PLANT_DRIFT_A, SCN_PLANT_DRIFT_B, SCN_PLANT_DRIFT_C,
+    SCN_PLANT_EMF5, SCN_PLANT_EMF7, SCN_PLANT_COGGING, SCN_PLANT_COGGING_PERIODS,
+    SCN_PLANT_RTH, SCN_PLANT_THERMAL_TAU, SCN_PLANT_REALISTIC
 } scn_plant_t;
 
 typedef struct {

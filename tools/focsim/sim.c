@@ -153,6 +153,23 @@ int sim_init(sim_t *s, const sim_options_t *o, const scn_t *scn, char *err,
     return 0;
 }
 
+/* `plant realistic`: the standard realistic plant of issue 13 (README.md,
+ * "Plant options"): the switched bridge with the board's dead time, the
+ * boards' mid-period sampling, 2 codes of ADC noise, current-sensor gains
+ * +2/-2/0 %, 3 % 5th and 1 % 7th back-EMF harmonics. */
+static void set_realistic(pmsm_params_t *p)
+{
+    p->switched = 1;
+    p->sample_mid_period = 1;
+    p->noise_codes = 2.0;
+    p->deadtime_s = PWM_DEADTIME_S;
+    p->gain_error[0] = 0.02;
+    p->gain_error[1] = -0.02;
+    p->gain_error[2] = 0.0;
+    p->emf_h5 = 0.03;
+    p->emf_h7 = 0.01;
+}
+
 static void set_plant(pmsm_model_t *m, scn_plant_t which, double v)
 {
     switch (which) {
@@ -166,6 +183,24 @@ static void set_plant(pmsm_model_t *m, scn_plant_t which, double v)
     case SCN_PLANT_NOISE: m->p.noise_codes = v; break;
     case SCN_PLANT_BUSCAP: m->p.bus_cap_f = v; break;
     case SCN_PLANT_BRAKERES: m->p.brake_r_ohm = v; break;
+    case SCN_PLANT_SWITCHED: m->p.switched = v != 0.0; break;
+    case SCN_PLANT_MIDSAMPLE: m->p.sample_mid_period = v != 0.0; break;
+    case SCN_PLANT_GAIN_A: m->p.gain_error[0] = v; break;
+    case SCN_PLANT_GAIN_B: m->p.gain_error[1] = v; break;
+    case SCN_PLANT_GAIN_C: m->p.gain_error[2] = v; break;
+    case SCN_PLANT_OFFSET_A: m->p.offset_codes[0] = v; break;
+    case SCN_PLANT_OFFSET_B: m->p.offset_codes[1] = v; break;
+    case SCN_PLANT_OFFSET_C: m->p.offset_codes[2] = v; break;
+    case SCN_PLANT_DRIFT_A: m->p.offset_drift_codes_per_s[0] = v; break;
+    case SCN_PLANT_DRIFT_B: m->p.offset_drift_codes_per_s[1] = v; break;
+    case SCN_PLANT_DRIFT_C: m->p.offset_drift_codes_per_s[2] = v; break;
+    case SCN_PLANT_EMF5: m->p.emf_h5 = v; break;
+    case SCN_PLANT_EMF7: m->p.emf_h7 = v; break;
+    case SCN_PLANT_COGGING: m->p.cogging_nm = v; break;
+    case SCN_PLANT_COGGING_PERIODS: m->p.cogging_periods = (int)fmin(v, 1e6); break;
+    case SCN_PLANT_RTH: m->p.thermal_r_k_per_w = v; break;
+    case SCN_PLANT_THERMAL_TAU: m->p.thermal_tau_s = v; break;
+    case SCN_PLANT_REALISTIC: set_realistic(&m->p); break;
     }
 }
 
@@ -249,6 +284,7 @@ int sim_step(sim_t *s, sim_row_t *row)
         s->next_event++;
     }
 
+    pmsm_run_to_sample(&s->model); /* the ADC's instant in period k */
     foc_fast_step(&s->ctrl);
     port->fault_input = 0; /* the `overcurrent` event is a pulse; the latch holds */
     if (s->period % CONTROL_SLOW_DIVIDER == 0u && s->slow_elsewhere == 0) {

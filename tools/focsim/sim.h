@@ -5,7 +5,9 @@
  *
  * Each sim_step() is one PWM period k at time t_k = k / f_pwm:
  *   1. scenario events with time <= t_k are applied;
- *   2. the fast step runs (samples at t_k, duties for period k+1);
+ *   2. the model runs to its ADC's sampling instant (t_k, or mid-period
+ *      with `plant midsample 1`) and the fast step runs (samples then,
+ *      duties for period k+1);
  *   3. every CONTROL_SLOW_DIVIDER periods the slow step runs after it (a
  *      lower-priority interrupt);
  *   4. the row for t_k is filled;
