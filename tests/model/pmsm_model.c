@@ -113,7 +113,8 @@ typedef struct {
                                /* switched segment's 0/1 states */
     double rs;                 /* winding resistance at its present */
                                /* temperature, ohm */
-    double inv_ld, inv_lq;     /* 1/H */
+    double inv_ld, inv_lq;     /* 1/H (unsaturated) */
+    int saturates;             /* ld_sat_a or lq_sat_a set */
     double band_per_v;         /* dead-time ripple band per bus volt, A/V */
     double dt_frac;            /* t_dead * f_pwm */
     double inv_j;              /* 1/kg m^2 */
@@ -264,6 +265,7 @@ static void integ_init(integ_t *c, pmsm_model_t *m, double theta_e_rad)
     c->rs = winding_rs_ohm(m);
     c->inv_ld = 1.0 / p->ld_h;
     c->inv_lq = 1.0 / p->lq_h;
+    c->saturates = p->ld_sat_a > 0.0 || p->lq_sat_a > 0.0;
     c->band_per_v = (2.0 / 3.0) / (8.0 * l_h * p->pwm_hz);
     /* the switched bridge has its dead time in the segments' states */
     c->dt_frac = p->switched ? 0.0 : p->deadtime_s * p->pwm_hz;
@@ -335,6 +337,43 @@ MODEL_INLINE double friction_nm(const pmsm_model_t *m)
     return m->p.coulomb_nm + m->load_nm;
 }
 
+/* Magnetic saturation of one axis (d or q), without cross-saturation:
+ * the incremental inductance dpsi/di falls with the axis current,
+ *   L(i) = L0 / (1 + (i / i_sat)^2)            (i_sat = 0: L0, linear),
+ * a Lorentzian fit of the measured L(i) shape (Lq at 2 x i_sat is L0 / 5),
+ * so the axis flux linkage, its integral, is
+ *   psi(i) = L0 i_sat atan(i / i_sat)          (V s; L0 i when linear)
+ * and the apparent inductance psi / i = L0 atan(x) / x, x = i / i_sat.
+ * The voltage equations use the incremental inductance for di/dt and the
+ * flux linkage for the rotational EMF and the torque: psi_d depends on id
+ * only and psi_q on iq only, so the field is conservative and the torque
+ * 1.5 p (psi_d iq - psi_q id) (with the magnet's share) balances the
+ * stored energy exactly. */
+MODEL_INLINE double axis_flux(double l0_h, double i_sat_a, double i_a)
+{
+    return i_sat_a > 0.0 ? l0_h * i_sat_a * atan(i_a / i_sat_a) : l0_h * i_a;
+}
+
+MODEL_INLINE double axis_inductance(double l0_h, double i_sat_a, double i_a)
+{
+    if (!(i_sat_a > 0.0)) {
+        return l0_h;
+    }
+    const double x = i_a / i_sat_a;
+    return l0_h / (1.0 + x * x);
+}
+
+/* The windings' (reluctance) share of the torque over 1.5 p:
+ * psi_d(id) iq - psi_q(iq) id, which is (Ld - Lq) id iq when linear. */
+MODEL_INLINE double winding_torque_term(const pmsm_params_t *p, double id_a, double iq_a)
+{
+    if (!(p->ld_sat_a > 0.0) && !(p->lq_sat_a > 0.0)) {
+        return (p->ld_h - p->lq_h) * id_a * iq_a;
+    }
+    return axis_flux(p->ld_h, p->ld_sat_a, id_a) * iq_a -
+           axis_flux(p->lq_h, p->lq_sat_a, iq_a) * id_a;
+}
+
 /* The magnet's back-EMF per unit electrical speed in the rotor frame,
  * V s/rad (e_dq = we (kd, kq)).  With 5th and 7th harmonics of h5 and h7
  * of the fundamental in each phase's EMF,
@@ -384,7 +423,7 @@ MODEL_INLINE double rotor_torque(const pmsm_params_t *p, double id_a, double iq_
     double kd;
     double kq;
     magnet_emf_per_speed(p, co, si, &kd, &kq);
-    return 1.5 * p->pole_pairs * (kq * iq_a + kd * id_a + (p->ld_h - p->lq_h) * id_a * iq_a) +
+    return 1.5 * p->pole_pairs * (kq * iq_a + kd * id_a + winding_torque_term(p, id_a, iq_a)) +
            cogging_torque_nm(p, theta_e_rad);
 }
 
@@ -434,10 +473,15 @@ MODEL_INLINE pwm_winding_t pwm_winding(const integ_t *c, const double duty[PHASE
     w.ud_v = v_alpha * co + v_beta * si;
     w.uq_v = -v_alpha * si + v_beta * co;
     /* winding voltage that would hold the currents constant */
-    const double hold_d = rs * id - we * lq * iq + we * kd;
-    const double hold_q = rs * iq + we * (ld * id + kq);
-    w.did_dt = (w.ud_v - hold_d) * c->inv_ld;
-    w.diq_dt = (w.uq_v - hold_q) * c->inv_lq;
+    const pmsm_params_t *p = &c->m->p;
+    const double we_psi_q = c->saturates ? we * axis_flux(lq, p->lq_sat_a, iq) : we * lq * iq;
+    const double psi_d = c->saturates ? axis_flux(ld, p->ld_sat_a, id) : ld * id;
+    const double hold_d = rs * id - we_psi_q + we * kd;
+    const double hold_q = rs * iq + we * (psi_d + kq);
+    const double inv_ld = c->saturates ? 1.0 / axis_inductance(ld, p->ld_sat_a, id) : c->inv_ld;
+    const double inv_lq = c->saturates ? 1.0 / axis_inductance(lq, p->lq_sat_a, iq) : c->inv_lq;
+    w.did_dt = (w.ud_v - hold_d) * inv_ld;
+    w.diq_dt = (w.uq_v - hold_q) * inv_lq;
     w.bus_current_a = 0.0;
     w.bus_current_a += d0 * i0;
     w.bus_current_a += d1 * i1;
@@ -494,8 +538,13 @@ static electrical_t electrical(const integ_t *c, const discrete_mode_t *dm,
     double kq;
     magnet_emf_per_speed(p, co, si, &kd, &kq);
     /* winding voltage that would hold the currents constant */
-    const double hold_d = c->rs * id - we * p->lq_h * iq + we * kd;
-    const double hold_q = c->rs * iq + we * (p->ld_h * id + kq);
+    const double we_psi_q =
+        c->saturates ? we * axis_flux(p->lq_h, p->lq_sat_a, iq) : we * p->lq_h * iq;
+    const double psi_d = c->saturates ? axis_flux(p->ld_h, p->ld_sat_a, id) : p->ld_h * id;
+    const double hold_d = c->rs * id - we_psi_q + we * kd;
+    const double hold_q = c->rs * iq + we * (psi_d + kq);
+    const double ld = axis_inductance(p->ld_h, p->ld_sat_a, id);
+    const double lq = axis_inductance(p->lq_h, p->lq_sat_a, iq);
     if (m->bridge == PMSM_BRIDGE_OFF && dm->diode[0] == 0 && dm->diode[1] == 0 &&
         dm->diode[2] == 0) {
         /* every phase blocked: what the general case below gives, without
@@ -545,17 +594,17 @@ static electrical_t electrical(const integ_t *c, const discrete_mode_t *dm,
          * rotor frame). */
         const double ad = ax.d[blocked];
         const double aq = ax.q[blocked];
-        const double mu = -(ad * gd / p->ld_h + aq * gq / p->lq_h +
+        const double mu = -(ad * gd / ld + aq * gq / lq +
                             we * (aq * id - ad * iq)) /
-                          (ad * ad / p->ld_h + aq * aq / p->lq_h);
+                          (ad * ad / ld + aq * aq / lq);
         e.ud_v += mu * ad;
         e.uq_v += mu * aq;
         gd += mu * ad;
         gq += mu * aq;
         e.float_v = 1.5 * mu;
     }
-    e.did_dt = gd * c->inv_ld;
-    e.diq_dt = gq * c->inv_lq;
+    e.did_dt = c->saturates ? gd / ld : gd * c->inv_ld;
+    e.diq_dt = c->saturates ? gq / lq : gq * c->inv_lq;
     return e;
 }
 
@@ -616,7 +665,7 @@ MODEL_INLINE void rk4_step(const integ_t *c, const discrete_mode_t *dm,
 typedef struct {
     const integ_t *c;
     double duty[PHASES];
-    double rs, ld, lq, pp, b, inv_j, fric_motion, torque_k, ld_lq;
+    double rs, ld, lq, pp, b, inv_j, fric_motion, torque_k;
     double inv_band;      /* stiff bus: for the step's (constant) voltage */
     int stiff_bus;
     int theta_moves;      /* rotor not locked */
@@ -654,7 +703,7 @@ MODEL_INLINE pwm_dx_t deriv_pwm_s(const pwm_step_t *k, double id, double iq, dou
     dx.th = k->theta_moves ? k->pp * wm : 0.0;
     dx.wm = 0.0;
     if (k->wm_moves) {
-        const double te = k->torque_k * (kq * iq + kd * id + k->ld_lq * id * iq) +
+        const double te = k->torque_k * (kq * iq + kd * id + winding_torque_term(k->p, id, iq)) +
                           cogging_torque_nm(k->p, th);
         dx.wm = (te - k->b * wm - k->fric_motion) * c->inv_j;
     }
@@ -689,7 +738,6 @@ static void rk4_pwm(const integ_t *c, const discrete_mode_t *dm,
     k.inv_j = c->inv_j;
     k.fric_motion = friction_nm(m) * dm->motion;
     k.torque_k = 1.5 * p->pole_pairs;
-    k.ld_lq = p->ld_h - p->lq_h;
     k.stiff_bus = !(p->bus_cap_f > 0.0);
     k.inv_band = deadtime_inv_band(c, x[X_VDC]);
     k.theta_moves = m->rotor != PMSM_ROTOR_LOCKED;

@@ -102,6 +102,9 @@ typedef struct {
                               /* K/W (0: Rs stays at rs_ohm) */
     double thermal_tau_s;  /* winding thermal time constant, s */
     double rs_tempco_per_k;/* Rs rise per kelvin (copper 0.0039) */
+    double ld_sat_a, lq_sat_a; /* saturation current of each axis, A: */
+                               /* incremental L = L0 / (1 + (i/i_sat)^2) */
+                               /* (0: linear) */
 } pmsm_params_t;
 
 typedef struct {
