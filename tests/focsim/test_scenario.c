@@ -264,6 +264,7 @@ static void case_parse_plant_options(void)
         { "emf7", SCN_PLANT_EMF7, 0.01 },          { "cogging", SCN_PLANT_COGGING, 0.004 },
         { "coggingperiods", SCN_PLANT_COGGING_PERIODS, 60 },
         { "rth", SCN_PLANT_RTH, 12 },              { "thermaltau", SCN_PLANT_THERMAL_TAU, 600 },
+        { "ldsat", SCN_PLANT_LD_SAT, 3 },          { "lqsat", SCN_PLANT_LQ_SAT, 2 },
         { "realistic", SCN_PLANT_REALISTIC, 0 },
     };
     const size_t n = sizeof want / sizeof want[0];

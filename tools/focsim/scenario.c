@@ -84,6 +84,8 @@ static const plant_spec_t plant_params[] = {
     [SCN_PLANT_COGGING_PERIODS] = { "coggingperiods", POSITIVE },
     [SCN_PLANT_RTH] = { "rth", NON_NEG },
     [SCN_PLANT_THERMAL_TAU] = { "thermaltau", POSITIVE },
+    [SCN_PLANT_LD_SAT] = { "ldsat", NON_NEG },
+    [SCN_PLANT_LQ_SAT] = { "lqsat", NON_NEG },
     [SCN_PLANT_REALISTIC] = { "realistic", ANY_VALUE, 1 },
 };
 #define NUM_PLANT_PARAMS (sizeof plant_params / sizeof plant_params[0])

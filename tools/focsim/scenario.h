@@ -34,6 +34,8 @@
  *          cogging (N m, >= 0)   coggingperiods (per mechanical turn, > 0)
  *          rth (winding thermal resistance, K/W, >= 0; 0 = Rs constant)
  *          thermaltau (winding thermal time constant, s, > 0)
+ *          ldsat, lqsat (saturation current of each axis, A, >= 0;
+ *          0 = linear)
  *   <t> plant realistic        the realistic set: switched, midsample,
  *          noise 2, the board's dead time, gains +2/-2/0 %, emf5 0.03,
  *          emf7 0.01 (takes no value)
@@ -67,7 +69,8 @@ typedef enum {
     SCN_PLANT_OFFSET_A, SCN_PLANT_OFFSET_B, SCN_PLANT_OFFSET_C,
     SCN_PLANT_DRIFT_A, SCN_PLANT_DRIFT_B, SCN_PLANT_DRIFT_C,
     SCN_PLANT_EMF5, SCN_PLANT_EMF7, SCN_PLANT_COGGING, SCN_PLANT_COGGING_PERIODS,
-    SCN_PLANT_RTH, SCN_PLANT_THERMAL_TAU, SCN_PLANT_REALISTIC
+    SCN_PLANT_RTH, SCN_PLANT_THERMAL_TAU, SCN_PLANT_LD_SAT, SCN_PLANT_LQ_SAT,
+    SCN_PLANT_REALISTIC
 } scn_plant_t;
 
 typedef struct {

@@ -200,6 +200,8 @@ static void set_plant(pmsm_model_t *m, scn_plant_t which, double v)
     case SCN_PLANT_COGGING_PERIODS: m->p.cogging_periods = (int)fmin(v, 1e6); break;
     case SCN_PLANT_RTH: m->p.thermal_r_k_per_w = v; break;
     case SCN_PLANT_THERMAL_TAU: m->p.thermal_tau_s = v; break;
+    case SCN_PLANT_LD_SAT: m->p.ld_sat_a = v; break;
+    case SCN_PLANT_LQ_SAT: m->p.lq_sat_a = v; break;
     case SCN_PLANT_REALISTIC: set_realistic(&m->p); break;
     }
 }
