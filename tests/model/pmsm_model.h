@@ -41,6 +41,50 @@
  * ADC of `adc_bits` bits whose full scale spans +-`current_fs_a`, with
  * per-phase offset (codes) and gain error, plus deterministic seeded
  * Gaussian noise (sigma in codes).
+ *
+ * Plant options (issue 13; each default keeps the ideal model above, bit
+ * for bit; focsim's `plant` command for each in brackets; tested in
+ * test_model.c against a closed form or the average model):
+ * - switched (0) [switched]: the bridge's real switching states within
+ *   each period instead of its average: centre-aligned PWM with the ADC's
+ *   sampling instant in the middle of the low-side on-time (the ports,
+ *   docs/porting.md; [RM0008] TIM1 centre-aligned mode, [DS70283] PWM
+ *   section 14); dead time per edge as a dead-time generator inserts it
+ *   (each switch turns on deadtime_s after its command, off at once;
+ *   meanwhile the free-wheeling diode sets the terminal by the current's
+ *   sign), so the average error is -sgn(i) Vdc t_dead f_pwm per leg, the
+ *   average model's outside its ripple band.  Integrated by RK4 segment by
+ *   segment between switching instants (steps <= 1 / (pwm_hz substeps)).
+ *   pmsm_sample_t's i_min_a / i_max_a give the current ripple.
+ * - sample_mid_period (0) [midsample]: the ADC samples at mid-period
+ *   (pmsm_run_to_sample integrates up to it), as both ports do; duties
+ *   still change at the period boundary, so a voltage computed from a
+ *   sample is centred 1.0 period after it (0.5 periods of waiting, then
+ *   the period), against 1.5 periods when sampling at the period start.
+ *   The core assumes SAMPLE_DELAY_PERIODS (config.h, 1.5 by default).
+ * - gain_error[3] (0) [gaina/b/c], offset_codes[3] (0) [offseta/b/c: a
+ *   step at the command's time, after the core's calibration if later],
+ *   offset_drift_codes_per_s[3] (0) [drifta/b/c]: current-sensor gain
+ *   mismatch and offset drift (codes = mid + (1 + gain) i / FS half-scale
+ *   + offset + drift t).
+ * - emf_h5, emf_h7 (0) [emf5, emf7]: back-EMF 5th and 7th harmonics as
+ *   fractions of the fundamental: e_a = -we flux (sin th + h5 sin 5th +
+ *   h7 sin 7th), in the voltage equations and, by power balance, the
+ *   torque (typical surface-magnet values: a few % 5th, about 1 % 7th).
+ * - cogging_nm (0), cogging_periods (60: 12 slots x 10 poles, assumed for
+ *   the Hurst075) [cogging, coggingperiods]: -cogging_nm sin(N th_m).
+ * - ld_sat_a, lq_sat_a (0) [ldsat, lqsat]: saturation of each axis (no
+ *   cross-saturation): incremental inductance L0 / (1 + (i / i_sat)^2),
+ *   flux linkage its integral L0 i_sat atan(i / i_sat); di/dt uses the
+ *   incremental inductance, the rotational EMF and the torque the flux
+ *   linkage (1.5 p (psi_d iq - psi_q id)), which keeps the energy balance
+ *   exact.
+ * - thermal_r_k_per_w (0), thermal_tau_s (600), rs_tempco_per_k (0.0039,
+ *   copper) [rth, thermaltau]: Rs = rs_ohm (1 + a rise), the winding's
+ *   rise above ambient following tau d(rise)/dt = Rth P - rise with the
+ *   copper loss P = 1.5 Rs (id^2 + iq^2).  E.g. the Hurst075 at its rated
+ *   1.64 A peak (10 W cold) with Rth 12 K/W settles about 90 K up: Rs
+ *   +35 %.
  */
 #ifndef PMSM_MODEL_H
 #define PMSM_MODEL_H
