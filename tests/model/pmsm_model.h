@@ -170,7 +170,11 @@ typedef struct {
     double vd_v, vq_v;              /* average winding voltages applied in */
                                     /* the last period, rotor frame */
     double i_min_a[3], i_max_a[3];  /* extremes of each phase current since */
-                                    /* the previous sample (see below) */
+                                    /* the previous sample: at every */
+                                    /* switching instant with the switched */
+                                    /* bridge (the ripple's peaks), else */
+                                    /* at the sampling instants and period */
+                                    /* ends only */
 } pmsm_sample_t;
 
 typedef struct {
