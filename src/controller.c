@@ -131,6 +131,7 @@ void foc_init(foc_ctrl_t *c)
     c->req.start = 0;
     c->req.stop = 0;
     c->req.ack = 0;
+    c->req.commission = 0;
     c->req.speed = 0;
     c->opt.stop_mode = STOP_MODE;
     c->opt.open_loop_only = OPEN_LOOP_ONLY;
@@ -152,6 +153,10 @@ void foc_init(foc_ctrl_t *c)
     foc_bus_init(&c->bus, FOC_VDC_NOMINAL);
     foc_protection_init(&c->protection);
     foc_sup_init(&c->sup);
+    foc_comm_begin(&c->comm);
+    c->comm.step = (uint8_t)FOC_COMM_STEP_NONE;
+    c->comm.fast_mode = (uint8_t)FOC_COMM_MODE_OFF;
+    c->comm.count = 0;
     foc_speed_stats_reset(&c->speed_stats);
     foc_startup_begin(&c->startup, 1);
     c->est.kind = (uint8_t)FOC_ESTIMATOR;
@@ -183,6 +188,32 @@ static q15_t forced_vq(q15_t speed, q15_t id)
     const q15_t emf = foc_mul_q15_shift(speed, FOC_EMF_PER_SPEED_MANT, FOC_EMF_PER_SPEED_SHIFT);
     const q15_t coupling = foc_mul_q15_shift(foc_mul_q15(speed, id), FOC_XD_MANT, FOC_XD_SHIFT);
     return foc_add_q15(emf, coupling);
+}
+
+/* 1 when the sampled current is beyond its trip level (each square
+ * <= 2^30: the sum fits 32 bits unsigned). */
+static inline uint8_t current_lost(foc_ab_t i)
+{
+    return (uint8_t)((uint32_t)((int32_t)i.alpha * i.alpha) + (uint32_t)((int32_t)i.beta * i.beta) >
+                     FOC_CURRENT_TRIP_SQ_Q30);
+}
+
+/* c->v_dq to the bridge on the angle sc_v: inverse Park, the dead-time
+ * correction of the reference's current, bus compensation, SVM. */
+static inline void apply_voltage(foc_ctrl_t *c, foc_sincos_t sc_v)
+{
+    c->v_ab = foc_ipark_q15(c->v_dq, sc_v);
+    if (c->opt.deadtime_comp != 0u) {
+        /* cancel the dead-time error of the next period's current: the
+         * reference turned on by 1.5 periods of rotation */
+        const foc_ab_t corr =
+            foc_deadtime_correction_ab(foc_iclarke_q15(foc_ipark_q15(c->i_ref_slewed, sc_v)));
+        c->v_ab.alpha = foc_add_q15(c->v_ab.alpha, corr.alpha);
+        c->v_ab.beta = foc_add_q15(c->v_ab.beta, corr.beta);
+    }
+    c->duty = foc_svm_q15(foc_bus_compensate(&c->bus, c->v_ab));
+    foc_port_set_duties(&c->duty);
+    foc_scope_debug_out(c->scope, c);
 }
 
 /* current_loop's frame: the angle it runs on. */
@@ -273,10 +304,7 @@ static void current_loop(foc_ctrl_t *c, uint8_t frame)
     }
     const foc_ab_t i_last = c->i_ab;
     c->i_ab = foc_cs_alphabeta(&c->current_sense, &c->samples, c->i_ab);
-    /* each square <= 2^30: the sum fits 32 bits unsigned */
-    if ((uint32_t)((int32_t)c->i_ab.alpha * c->i_ab.alpha) +
-            (uint32_t)((int32_t)c->i_ab.beta * c->i_ab.beta) >
-        FOC_CURRENT_TRIP_SQ_Q30) {
+    if (current_lost(c->i_ab) != 0u) {
         trip(c, (uint16_t)FOC_FAULT_OVERCURRENT); /* the current lost */
         return;
     }
@@ -326,19 +354,48 @@ static void current_loop(foc_ctrl_t *c, uint8_t frame)
                                     c->forced_iq_max, c->v_dq.d, v_max, c->est.speed);
     } /* FRAME_PROBE: the q voltage held */
 
-    const foc_sincos_t sc_v = foc_sincos_sum(sc, c->advance_sc);
-    c->v_ab = foc_ipark_q15(c->v_dq, sc_v);
-    if (c->opt.deadtime_comp != 0u) {
-        /* cancel the dead-time error of the next period's current: the
-         * reference turned on by 1.5 periods of rotation */
-        const foc_ab_t corr =
-            foc_deadtime_correction_ab(foc_iclarke_q15(foc_ipark_q15(c->i_ref_slewed, sc_v)));
-        c->v_ab.alpha = foc_add_q15(c->v_ab.alpha, corr.alpha);
-        c->v_ab.beta = foc_add_q15(c->v_ab.beta, corr.beta);
+    apply_voltage(c, foc_sincos_sum(sc, c->advance_sc));
+}
+
+/* COMMISSION's inductance pulses (commission.h): both current PIs held,
+ * their integrators' voltages applied on the standing forced frame, plus
+ * foc_comm_pulse's square wave on the pulsed axis (d: `on_d`), within
+ * +-v_max. */
+FOC_COLD static void commission_pulse(foc_ctrl_t *c, uint8_t on_d)
+{
+    c->i_ab = foc_cs_read(&c->current_sense, &c->samples, c->i_ab);
+    if (current_lost(c->i_ab) != 0u) {
+        trip(c, (uint16_t)FOC_FAULT_OVERCURRENT);
+        return;
     }
-    c->duty = foc_svm_q15(foc_bus_compensate(&c->bus, c->v_ab));
-    foc_port_set_duties(&c->duty);
-    foc_scope_debug_out(c->scope, c);
+    const foc_sincos_t sc = foc_sincos_q15(foc_startup_angle(&c->startup));
+    c->i_dq = foc_park_q15(c->i_ab, sc);
+    const q15_t dv = foc_comm_pulse(&c->comm, (on_d != 0u) ? c->i_dq.d : c->i_dq.q);
+    const q15_t v_max = c->bus.v_max;
+    const int32_t vd = c->current_ctrl.pi_d.integ / 32768 + ((on_d != 0u) ? dv : 0);
+    const int32_t vq = c->current_ctrl.pi_q.integ / 32768 + ((on_d != 0u) ? 0 : dv);
+    c->v_dq.d = (q15_t)((vd > v_max) ? v_max : (vd < -v_max) ? -v_max : vd);
+    c->v_dq.q = (q15_t)((vq > v_max) ? v_max : (vq < -v_max) ? -v_max : vq);
+    c->v_ab_prev = c->v_ab;
+    apply_voltage(c, sc);
+}
+
+/* COMMISSION's period: the offsets' sums with the bridge off, the pulses,
+ * or the forced-frame current loop (turning in the spin) and the sums. */
+FOC_COLD static void commission_fast(foc_ctrl_t *c)
+{
+    const uint8_t mode = c->comm.mode;
+    if (mode == (uint8_t)FOC_COMM_MODE_OFF) {
+        foc_cs_calib_add(&c->current_sense, &c->samples);
+    } else if (mode == (uint8_t)FOC_COMM_MODE_PULSE_D || mode == (uint8_t)FOC_COMM_MODE_PULSE_Q) {
+        commission_pulse(c, (uint8_t)(mode == (uint8_t)FOC_COMM_MODE_PULSE_D));
+    } else {
+        if (mode == (uint8_t)FOC_COMM_MODE_SPIN || mode == (uint8_t)FOC_COMM_MODE_SPIN_SUM) {
+            foc_startup_fast(&c->startup);
+        }
+        current_loop(c, FRAME_FORCED);
+        foc_comm_sum(&c->comm, c->v_dq, c->i_dq);
+    }
 }
 
 /* Angle of the short-circuit current i = -(1/L) integral of E over one
@@ -518,6 +575,9 @@ void foc_fast_step(foc_ctrl_t *c)
         }
         break;
     }
+    case FOC_STATE_COMMISSION:
+        commission_fast(c);
+        break;
     case FOC_STATE_RUN:
     case FOC_STATE_STOP:
     case FOC_STATE_BRAKE:
@@ -991,6 +1051,31 @@ static void fault_tick(foc_ctrl_t *c)
     }
 }
 
+/* COMMISSION's slow tick: the sequence (commission.c) drives the forced
+ * frame and its d current; the bridge goes on (its controllers from zero)
+ * when the offsets are taken; the end is IDLE, a failed step a fault. */
+static void commission_tick(foc_ctrl_t *c)
+{
+    const uint8_t was_off = (uint8_t)(c->comm.mode == (uint8_t)FOC_COMM_MODE_OFF);
+    const foc_comm_in_t in = { c->current_sense.calibrated, c->current_sense.offset };
+    const foc_comm_status_t status = foc_comm_tick(&c->comm, &c->startup, &in);
+    if (status == FOC_COMM_FAILED) {
+        trip(c, (uint16_t)FOC_FAULT_COMMISSION_FAILED);
+        return;
+    }
+    if (status == FOC_COMM_DONE) {
+        to_idle(c);
+        return;
+    }
+    if (was_off != 0u && c->comm.mode != (uint8_t)FOC_COMM_MODE_OFF) {
+        c->post_on_sensor = 0;
+        post(c, FOC_POST_RESTART);
+    }
+    c->i_ref.d = c->startup.current;
+    c->i_ref.q = 0;
+    c->forced_iq_max = foc_sc_iq_limit(c->i_ref.d);
+}
+
 static void state_machine(foc_ctrl_t *c)
 {
     if (c->state == FOC_STATE_CATCH || c->state == FOC_STATE_ALIGN ||
@@ -1000,7 +1085,13 @@ static void state_machine(foc_ctrl_t *c)
     }
     switch (c->state) {
     case FOC_STATE_IDLE:
-        if (c->req.start != 0u) {
+        if (c->req.commission != 0u) {
+            foc_cs_calib_start(&c->current_sense);
+            outputs_off(c);
+            reset_run_state(c);
+            foc_comm_begin(&c->comm);
+            enter(c, FOC_STATE_COMMISSION);
+        } else if (c->req.start != 0u) {
             foc_cs_calib_start(&c->current_sense);
             outputs_off(c);
             c->start_ticks = 0;
@@ -1049,6 +1140,13 @@ static void state_machine(foc_ctrl_t *c)
     case FOC_STATE_BRAKE:
         brake_tick(c);
         break;
+    case FOC_STATE_COMMISSION:
+        if (c->req.stop != 0u) {
+            to_idle(c);
+        } else {
+            commission_tick(c);
+        }
+        break;
     default:
         fault_tick(c);
         break;
@@ -1057,6 +1155,7 @@ static void state_machine(foc_ctrl_t *c)
     c->req.start = 0;
     c->req.stop = 0;
     c->req.ack = 0;
+    c->req.commission = 0;
 }
 
 void foc_slow_step(foc_ctrl_t *c)
@@ -1070,7 +1169,7 @@ void foc_slow_step(foc_ctrl_t *c)
     }
     /* the winding heats with the current of the loop, cools otherwise */
     const uint8_t loop_on = (uint8_t)(((c->state >= FOC_STATE_ALIGN && c->state <= FOC_STATE_BRAKE) ||
-                                       c->state == FOC_STATE_CATCH) &&
+                                       c->state == FOC_STATE_CATCH || c->state == FOC_STATE_COMMISSION) &&
                                       c->shorting == 0u);
     const uint16_t faults =
         (uint16_t)(foc_protection_check(&c->protection, c->samples.vdc, c->samples.temp) |
@@ -1087,7 +1186,8 @@ void foc_slow_step(foc_ctrl_t *c)
     state_machine(c);
     /* the inverse Park's advance for the fast step: SAMPLE_DELAY_PERIODS
      * of rotation at the speed of the frame it runs in */
-    const uint8_t forced = (uint8_t)(c->state == FOC_STATE_ALIGN || c->state == FOC_STATE_OPENLOOP);
+    const uint8_t forced = (uint8_t)(c->state == FOC_STATE_ALIGN || c->state == FOC_STATE_OPENLOOP ||
+                                     c->state == FOC_STATE_COMMISSION);
     const q15_t speed = (forced != 0u) ? c->startup.speed : c->est.speed;
     c->advance_sc = foc_sincos_q15((uint16_t)foc_mul_q15(speed, FOC_ADVANCE_GAIN));
 }
@@ -1107,6 +1207,11 @@ void foc_cmd_ack(foc_ctrl_t *c)
     c->req.ack = 1;
 }
 
+void foc_cmd_commission(foc_ctrl_t *c)
+{
+    c->req.commission = 1;
+}
+
 void foc_cmd_speed(foc_ctrl_t *c, q15_t speed)
 {
     /* never beyond the motor's maximum speed, whatever is asked, and
@@ -1123,6 +1228,7 @@ const char *foc_state_name(foc_state_t s)
 {
     static const char *const names[] = {
         "IDLE", "CALIB", "ALIGN", "OPENLOOP", "RUN", "STOP", "BRAKE", "FAULT", "CATCH",
+        "COMMISSION",
     };
     return ((unsigned)s < sizeof names / sizeof names[0]) ? names[s] : "?";
 }

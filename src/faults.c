@@ -19,6 +19,7 @@ const char *foc_fault_name(uint16_t fault)
     static const char *const names[] = {
         "OVERCURRENT", "OVERVOLTAGE", "UNDERVOLTAGE",
         "OVERTEMP", "STARTUP_FAILED", "SPEED_FEEDBACK", "OVERSPEED", "MOTOR_OVERLOAD",
+        "COMMISSION_FAILED",
     };
     for (unsigned bit = 0; bit < sizeof names / sizeof names[0]; bit++) {
         if ((fault & (1u << bit)) != 0u) {

@@ -639,6 +639,67 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
 #define FOC_XD_MANT FOC_GAIN_MANT(FOC_XD_PU)
 #define FOC_XD_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_XD_PU))
 #define FOC_STARTUP_MIN_SPEED FOC_SPEED_Q15(STARTUP_MIN_SPEED_RPM)
+/* ---------------------------------------------------- commissioning -- */
+/* commission.c (docs/commissioning.md).  Two d currents for Rs: the high
+ * one the rated current, at most 0.9 x the regulated limit; the low one
+ * half of it (also the hold of the inductance pulses). */
+#define FOC_COMM_I_HIGH_A                                                      \
+    ((MOTOR_RATED_CURRENT_A < 0.9 * CURRENT_LIMIT_A * (1.0 - CURRENT_REF_MARGIN))  \
+         ? MOTOR_RATED_CURRENT_A : 0.9 * CURRENT_LIMIT_A * (1.0 - CURRENT_REF_MARGIN))
+#define FOC_COMM_I_HIGH FOC_I_Q15(FOC_COMM_I_HIGH_A)
+#define FOC_COMM_I_LOW FOC_I_Q15(FOC_COMM_I_HIGH_A / 2.0)
+/* Means over 2^FOC_COMM_SUM_LOG2 periods (sums of Q15 within 2^27). */
+#define FOC_COMM_SUM_LOG2 12
+#define FOC_COMM_SUM_N ((uint16_t)(1u << FOC_COMM_SUM_LOG2))
+/* The currents' electrical settling before a sum, and the rotor's after
+ * the alignment (as long as the alignment itself). */
+#define FOC_COMM_SETTLE_TICKS FOC_TICKS(0.03)
+#define FOC_COMM_ROTOR_SETTLE_TICKS FOC_TICKS(STARTUP_ALIGN_TIME_S)
+/* Inductance pulses: a square wave of +-dV on one axis, half-period N
+ * periods, on top of the held voltages; N a quarter of the parameters'
+ * L / Rs (8 to 32 periods), dV the one that gives FOC_COMM_PULSE_DI_A
+ * peak to peak with the parameter's L. */
+#define FOC_COMM_TAU_S ((MOTOR_LD_H < MOTOR_LQ_H ? MOTOR_LD_H : MOTOR_LQ_H) / MOTOR_RS_OHM)
+#define FOC_COMM_PULSE_N_D (FOC_COMM_TAU_S / 4.0 / FOC_TS_S)
+#define FOC_COMM_PULSE_N                                                       \
+    ((uint8_t)(FOC_COMM_PULSE_N_D < 8.0 ? 8.0 : FOC_COMM_PULSE_N_D > 32.0 ? 32.0 : FOC_COMM_PULSE_N_D))
+#define FOC_COMM_PULSE_DI_A (FOC_COMM_I_HIGH_A / 4.0)
+#define FOC_COMM_PULSE_DV_D Q15(MOTOR_LD_H * FOC_COMM_PULSE_DI_A / (FOC_COMM_PULSE_N * FOC_TS_S) / FOC_V_BASE_V)
+#define FOC_COMM_PULSE_DV_Q Q15(MOTOR_LQ_H * FOC_COMM_PULSE_DI_A / (FOC_COMM_PULSE_N * FOC_TS_S) / FOC_V_BASE_V)
+/* Each half's regression window: its samples 3 .. N-1 (the PWM's and the
+ * sample's lag, 2 periods at most, kept out), n = N - 3 of them; the
+ * weights u = 2 j - (n - 1) have sum u^2 = n (n^2 - 1) / 3. */
+#define FOC_COMM_WIN_N ((uint8_t)(FOC_COMM_PULSE_N - 3u))
+#define FOC_COMM_SUM_U2_D ((double)FOC_COMM_WIN_N * ((double)FOC_COMM_WIN_N * FOC_COMM_WIN_N - 1.0) / 3.0)
+/* Cycles summed (after 2 to settle): about 2^FOC_COMM_SUM_LOG2 periods. */
+#define FOC_COMM_PULSE_CYCLES ((uint16_t)(FOC_COMM_SUM_N / (2u * FOC_COMM_PULSE_N)))
+/* The regression sum the parameter's L gives: cycles x 2 halves x the
+ * slope (dV Ts / L per period, Q15 current per Q15 voltage) x sum u^2 / 2. */
+#define FOC_COMM_SLOPE_PER_V(l_h) (FOC_TS_S * FOC_V_BASE_V / ((l_h) * FOC_I_BASE_A))
+#define FOC_COMM_PULSE_SUM_D                                                   \
+    ((int32_t)((double)FOC_COMM_PULSE_CYCLES * FOC_COMM_PULSE_DV_D * FOC_COMM_SLOPE_PER_V(MOTOR_LD_H) * FOC_COMM_SUM_U2_D + 0.5))
+#define FOC_COMM_PULSE_SUM_Q                                                   \
+    ((int32_t)((double)FOC_COMM_PULSE_CYCLES * FOC_COMM_PULSE_DV_Q * FOC_COMM_SLOPE_PER_V(MOTOR_LQ_H) * FOC_COMM_SUM_U2_D + 0.5))
+/* The I/f spin for the flux: twice the start-up's final speed, within
+ * 0.15 .. 0.5 of the maximum; the rotor's swing settles for 0.3 s. */
+#define FOC_COMM_SPIN_RPM_D (2.0 * STARTUP_FINAL_SPEED_RPM)
+#define FOC_COMM_SPIN_RPM                                                      \
+    (FOC_COMM_SPIN_RPM_D < 0.15 * MOTOR_MAX_SPEED_RPM ? 0.15 * MOTOR_MAX_SPEED_RPM    \
+     : FOC_COMM_SPIN_RPM_D > 0.5 * MOTOR_MAX_SPEED_RPM ? 0.5 * MOTOR_MAX_SPEED_RPM   \
+                                                      : FOC_COMM_SPIN_RPM_D)
+#define FOC_COMM_SPIN_SPEED FOC_SPEED_Q15(FOC_COMM_SPIN_RPM)
+#define FOC_COMM_SPIN_SETTLE_TICKS FOC_TICKS(0.3)
+/* A step that has not ended in this time failed: the start-up's timeout,
+ * twice, plus a second. */
+#define FOC_COMM_STEP_TIMEOUT_TICKS FOC_TICKS(2.0 * STARTUP_TIMEOUT_S + 1.0)
+/* A calibrated offset beyond 1/8 of the full scale is a broken sensor. */
+#define FOC_COMM_OFFSET_MAX ((q15_t)4096)
+/* The parameters in per-unit, scaled by 2^20 (each below 2^11): Rs, the
+ * reactances at the speed base, the back-EMF per speed base (Q15). */
+#define FOC_COMM_RS_Q20 ((int32_t)(FOC_RS_PU * 1048576.0 + 0.5))
+#define FOC_COMM_XD_Q20 ((int32_t)(FOC_WE_BASE_RAD_S * MOTOR_LD_H * FOC_I_BASE_A / FOC_V_BASE_V * 1048576.0 + 0.5))
+#define FOC_COMM_XQ_Q20 ((int32_t)(FOC_WE_BASE_RAD_S * MOTOR_LQ_H * FOC_I_BASE_A / FOC_V_BASE_V * 1048576.0 + 0.5))
+#define FOC_COMM_KE_Q15 ((int32_t)(FOC_KFI_PU * 32768.0 + 0.5))
 /* STOP (ramp mode) leaves the rotor to coast at STOP_SPEED_RPM, but on an
  * estimate not below STARTUP_MIN_SPEED_RPM, the lowest speed the
  * estimators carry the loop at: lower, the drone's Luenberger observer
@@ -978,6 +1039,16 @@ FOC_STATIC_ASSERT(OVERSPEED_MARGIN > 0.0 &&
                   "OVERSPEED_MARGIN must be > 0 with (1 + margin) x max speed below "
                   "SPEED_BASE_RPM");
 FOC_STATIC_ASSERT(FOC_RAMP_DOWN_TICKS < 65000, "SPEED_RAMP_RPM_PER_S too slow");
+FOC_STATIC_ASSERT(FOC_COMM_RS_Q20 > 0 && FOC_RS_PU < 2000.0 &&
+                  FOC_WE_BASE_RAD_S * MOTOR_LQ_H * FOC_I_BASE_A / FOC_V_BASE_V < 2000.0 &&
+                  FOC_WE_BASE_RAD_S * MOTOR_LD_H * FOC_I_BASE_A / FOC_V_BASE_V < 2000.0,
+                  "commissioning: Rs or the reactance beyond 2000 per-unit (commission.c)");
+FOC_STATIC_ASSERT(FOC_COMM_PULSE_DV_D > 0 && FOC_COMM_PULSE_DV_Q > 0 &&
+                  FOC_COMM_PULSE_DV_D < 16384 && FOC_COMM_PULSE_DV_Q < 16384,
+                  "commissioning: the inductance pulse's voltage out of range");
+FOC_STATIC_ASSERT(FOC_COMM_PULSE_SUM_D > 64 && FOC_COMM_PULSE_SUM_Q > 64 &&
+                  (double)FOC_COMM_PULSE_SUM_D < 536870912.0 && (double)FOC_COMM_PULSE_SUM_Q < 536870912.0,
+                  "commissioning: the inductance regression sum out of range");
 FOC_STATIC_ASSERT(SENSORLESS_MIN_SPEED_RPM >= 0.0 && SENSORLESS_MIN_SPEED_RPM <= MOTOR_MAX_SPEED_RPM,
                   "SENSORLESS_MIN_SPEED_RPM must be in [0, MOTOR_MAX_SPEED_RPM]");
 

@@ -48,6 +48,8 @@
  *   any state --fault--> FAULT (outputs off, or windings shorted with
  *                 FAULT_BRAKE) --ack after
  *                 FAULT_ACK_MIN_TIME_S with every cause gone--> IDLE
+ *   IDLE --commission--> COMMISSION (commission.h: offsets, Rs, Ld, Lq,
+ *                 flux) --> IDLE with the results | FAULT COMMISSION_FAILED
  * Protection (bus, temperature, over-current) is active in every state.
  */
 #ifndef FOC_CONTROLLER_H
@@ -55,6 +57,7 @@
 
 #include <stdint.h>
 #include "foc/bus.h"
+#include "foc/commission.h"
 #include "foc/current_ctrl.h"
 #include "foc/current_sense.h"
 #include "foc/estimator.h"
@@ -78,9 +81,11 @@ typedef enum {
     FOC_STATE_STOP,
     FOC_STATE_BRAKE,
     FOC_STATE_FAULT,
-    FOC_STATE_CATCH  /* start: zero current while the estimator looks */
-} foc_state_t;       /* for a rotor already turning (then RUN, else ALIGN) */
-#define FOC_STATE_LAST FOC_STATE_CATCH
+    FOC_STATE_CATCH, /* start: zero current while the estimator looks */
+                     /* for a rotor already turning (then RUN, else ALIGN) */
+    FOC_STATE_COMMISSION /* self-commissioning (commission.h), from IDLE */
+} foc_state_t;
+#define FOC_STATE_LAST FOC_STATE_COMMISSION
 
 typedef enum {
     STOP_MODE_RAMP = 0,  /* ramp down, then outputs off */
@@ -105,6 +110,7 @@ typedef struct {
     uint8_t start;
     uint8_t stop;
     uint8_t ack;
+    uint8_t commission; /* IDLE: measure the motor (commission.h) */
     q15_t speed;      /* speed command, Q15 of SPEED_BASE_RPM, signed */
 } foc_requests_t;
 
@@ -188,6 +194,10 @@ typedef struct {
                                        /* turns at before it runs) */
     foc_speed_stats_t speed_stats;     /* [slow] */
     foc_supervision_t sup;             /* [slow] */
+    foc_comm_t comm;                   /* commissioning: [slow] its */
+                                       /* sequence, [fast] its sums */
+                                       /* (commission.h); the results */
+                                       /* stay until the next one */
 
     int8_t direction;       /* [slow] +1 / -1: direction of the present run */
     uint8_t converged_ticks; /* [slow] consecutive start-up convergence tests */
@@ -222,10 +232,15 @@ void foc_slow_step(foc_ctrl_t *c);
 void foc_cmd_start(foc_ctrl_t *c);
 void foc_cmd_stop(foc_ctrl_t *c);
 void foc_cmd_ack(foc_ctrl_t *c);
+/* From IDLE: self-commissioning (commission.h), back to IDLE with
+ * c->comm.valid, or FAULT COMMISSION_FAILED naming c->comm.failed_step.
+ * The rotor turns (the flux's I/f spin) and coasts at the end. */
+void foc_cmd_commission(foc_ctrl_t *c);
 /* Speed command, Q15 of SPEED_BASE_RPM (mechanical), signed. */
 void foc_cmd_speed(foc_ctrl_t *c, q15_t speed);
 
-/* "IDLE", "CALIB", "ALIGN", "OPENLOOP", "RUN", "STOP", "BRAKE", "FAULT", "CATCH". */
+/* "IDLE", "CALIB", "ALIGN", "OPENLOOP", "RUN", "STOP", "BRAKE", "FAULT", "CATCH",
+ * "COMMISSION". */
 const char *foc_state_name(foc_state_t s);
 
 #endif /* FOC_CONTROLLER_H */

@@ -5,7 +5,11 @@
  *          [--csv FILE] [--plot FILE.svg] [--seed N] [--decimate N]
  *          [--field-weakening off|table|voltage]
  *          [--monitor FILE [--monitor-out FILE]] [--time] [--substeps N]
+ *          [--commission-out FILE.ini]
  *
+ * --commission-out writes the motor description (tools/tune.py's INI) of
+ * a scenario's `commission` (sim.h sim_commission_ini); without valid
+ * results nothing is written and the exit status is 1.
  * --substeps sets the motor model's RK4 substeps per PWM period (default
  * 4; fewer is faster and less accurate: docs/benchmarks.md, "focsim
  * speed").
@@ -19,7 +23,8 @@
  *
  * Without --estimator it uses the one userparms.h selects (FOC_ESTIMATOR);
  * without --scenario it runs tools/scenarios/default.scn.  Prints a summary
- * of key=value lines at the end.  Exit status: 0 after a completed run,
+ * of key=value lines at the end (with id_rs_ohm, id_ld_h, id_lq_h,
+ * id_flux_wb when the scenario commissioned).  Exit status: 0 after a completed run,
  * 1 on a usage, scenario or file error.
  */
 #include <errno.h>
@@ -46,6 +51,7 @@ typedef struct {
     unsigned long decimate;
     const char *monitor;     /* monitor script, or NULL */
     const char *monitor_out; /* its output file, NULL: standard output */
+    const char *commission_out; /* --commission-out: motor INI, or NULL */
     int time;                /* --time: report the real-time factor */
     sim_options_t sim;
 } cli_t;
@@ -64,7 +70,8 @@ static void usage(FILE *f)
           "              [--csv FILE] [--plot FILE.svg] [--seed N] [--decimate N]\n"
           "              [--field-weakening off|table|voltage] [--stop-mode ramp|coast|short]\n"
           "              [--brake-resistor on|off] [--sensored-start] [--min-speed-rpm N]\n"
-          "              [--monitor FILE [--monitor-out FILE]] [--time] [--substeps N]\n",
+          "              [--monitor FILE [--monitor-out FILE]] [--time] [--substeps N]\n"
+          "              [--commission-out FILE.ini]\n",
           f);
 }
 
@@ -133,6 +140,8 @@ static int parse_option(cli_t *cli, const char *opt, const char *val)
         cli->sim.min_speed_rpm = (int)n;
     } else if (strcmp(opt, "--monitor") == 0) {
         cli->monitor = val;
+    } else if (strcmp(opt, "--commission-out") == 0) {
+        cli->commission_out = val;
     } else if (strcmp(opt, "--monitor-out") == 0) {
         cli->monitor_out = val;
     } else if (strcmp(opt, "--decimate") == 0) {
@@ -155,6 +164,7 @@ static int parse_cli(int argc, char **argv, cli_t *cli)
     cli->decimate = 1;
     cli->monitor = NULL;
     cli->monitor_out = NULL;
+    cli->commission_out = NULL;
     cli->time = 0;
     sim_default_options(&cli->sim);
     cli->estimator = foc_est_name(cli->sim.estimator);
@@ -372,6 +382,15 @@ int main(int argc, char **argv)
         rc = 1;
     }
     print_summary(&sim, &last, cli.estimator);
+    sim_commission_print(&sim, stdout);
+    if (cli.commission_out != NULL) {
+        FILE *ini = fopen(cli.commission_out, "w");
+        const int written = ini != NULL && sim_commission_ini(&sim, ini) == 0;
+        if (ini == NULL || fclose(ini) != 0 || !written) {
+            fprintf(stderr, "focsim: no commissioning results written to %s\n", cli.commission_out);
+            rc = 1;
+        }
+    }
     if (cli.time) {
         printf("cpu_time_s=%.3f\nrealtime_factor=%.1f\n", cpu_s,
                cpu_s > 0.0 ? sim.t_s / cpu_s : 0.0);

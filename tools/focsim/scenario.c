@@ -45,6 +45,7 @@ static const cmd_spec_t commands[] = {
     [SCN_ANGLE] = { "angle", "<deg>", ANY_VALUE },
     [SCN_SPIN] = { "spin", "<rpm>", ANY_VALUE },
     [SCN_PLANT] = { "plant", "<param> <value>", ANY_VALUE },
+    [SCN_COMMISSION] = { "commission", NULL, ANY_VALUE },
     [SCN_END] = { "end", NULL, ANY_VALUE },
 };
 #define NUM_COMMANDS (sizeof commands / sizeof commands[0])

@@ -39,6 +39,8 @@
  *   <t> plant realistic        the realistic set: switched, midsample,
  *          noise 2, the board's dead time, gains +2/-2/0 %, emf5 0.03,
  *          emf7 0.01 (takes no value)
+ *   <t> commission             self-commissioning from IDLE (commission.h;
+ *                              the summary's id_* keys)
  *   <t> end                    end of the simulation (at most one)
  *
  * Events are sorted by time; events with equal times keep their file order.
@@ -57,7 +59,8 @@
 
 typedef enum {
     SCN_START, SCN_STOP, SCN_SPEED, SCN_LOAD, SCN_LOCK, SCN_UNLOCK, SCN_VDC,
-    SCN_TEMP, SCN_OVERCURRENT, SCN_ACK, SCN_ANGLE, SCN_SPIN, SCN_PLANT, SCN_END
+    SCN_TEMP, SCN_OVERCURRENT, SCN_ACK, SCN_ANGLE, SCN_SPIN, SCN_PLANT, SCN_COMMISSION,
+    SCN_END
 } scn_kind_t;
 
 typedef enum {

@@ -223,6 +223,7 @@ static void apply_event(sim_t *s, const scn_event_t *e)
     case SCN_ANGLE: pmsm_set_rotor_angle(&s->model, e->value * FOC_PI_D / 180.0); break;
     case SCN_SPIN: pmsm_set_rotor_mode(&s->model, PMSM_ROTOR_SPIN, e->value); break;
     case SCN_PLANT: set_plant(&s->model, e->plant, e->value); break;
+    case SCN_COMMISSION: foc_cmd_commission(&s->ctrl); break;
     case SCN_END: break;
     }
 }
@@ -307,6 +308,67 @@ int sim_step(sim_t *s, sim_row_t *row)
     s->period++;
     s->t_s = (double)s->period / PWM_FREQUENCY_HZ;
     return 1;
+}
+
+void sim_commission_results(const sim_t *s, sim_commission_t *out)
+{
+    const foc_comm_t *m = &s->ctrl.comm;
+    out->ran = m->step != (uint8_t)FOC_COMM_STEP_NONE;
+    out->valid = m->valid != 0u;
+    out->failed_step = foc_comm_step_name(m->failed_step);
+    out->rs_ohm = m->rs_q14 / 16384.0 * MOTOR_RS_OHM;
+    out->ld_h = m->ld_q14 / 16384.0 * MOTOR_LD_H;
+    out->lq_h = m->lq_q14 / 16384.0 * MOTOR_LQ_H;
+    out->flux_wb = m->flux_q14 / 16384.0 * FOC_FLUX_WB;
+}
+
+void sim_commission_print(const sim_t *s, FILE *f)
+{
+    sim_commission_t r;
+    sim_commission_results(s, &r);
+    if (!r.ran) {
+        return;
+    }
+    fprintf(f, "commission_valid=%d\n", r.valid);
+    if (r.failed_step[0] != 'N') {
+        fprintf(f, "commission_step=%s\n", r.failed_step);
+    }
+    fprintf(f, "id_rs_ohm=%.6g\nid_ld_h=%.6g\nid_lq_h=%.6g\nid_flux_wb=%.6g\n", r.rs_ohm, r.ld_h,
+            r.lq_h, r.flux_wb);
+}
+
+int sim_commission_ini(const sim_t *s, FILE *f)
+{
+    sim_commission_t r;
+    sim_commission_results(s, &r);
+    if (!r.valid) {
+        return -1;
+    }
+    fprintf(f,
+            "# Written by focsim --commission-out: Rs, Ld, Lq and the flux linkage\n"
+            "# measured by the firmware's self-commissioning (docs/commissioning.md);\n"
+            "# the rest from the userparms.h it was built with.\n"
+            "[motor]\n"
+            "name = commissioned motor\n"
+            "pole_pairs = %d\n"
+            "connection = star\n"
+            "rl_measured = phase\n"
+            "rs_ohm = %.6g\n"
+            "ld_h = %.6g\n"
+            "lq_h = %.6g\n"
+            "flux_linkage_wb = %.6g\n"
+            "nominal_speed_rpm = %.6g\n"
+            "max_speed_rpm = %.6g\n"
+            "rated_current_a_peak = %.6g\n"
+            "max_current_a_peak = %.6g\n"
+            "# not measured (commissioning does not identify them yet): userparms.h's\n"
+            "inertia_kgm2 = %.6g\n"
+            "viscous_nm_per_krpm = %.6g\n"
+            "coulomb_nm = %.6g\n",
+            MOTOR_POLE_PAIRS, r.rs_ohm, r.ld_h, r.lq_h, r.flux_wb, (double)MOTOR_NOMINAL_SPEED_RPM,
+            (double)MOTOR_MAX_SPEED_RPM, (double)MOTOR_RATED_CURRENT_A, (double)CURRENT_LIMIT_A,
+            (double)MOTOR_INERTIA_KGM2, (double)MOTOR_VISCOUS_NM_PER_KRPM, (double)MOTOR_COULOMB_NM);
+    return ferror(f) ? -1 : 0;
 }
 
 int sim_last_period(const sim_t *s)

@@ -21,6 +21,7 @@
 #define FOCSIM_SIM_H
 
 #include <stdint.h>
+#include <stdio.h>
 
 #include "foc/controller.h"
 #include "pmsm_model.h"
@@ -98,6 +99,27 @@ int sim_estimator_from_name(const char *name, foc_est_kind_t *kind);
 /* Parse "off|table|voltage" and "ramp|coast|short"; -1 if unknown. */
 int sim_fw_mode_from_name(const char *name, int *mode);
 int sim_stop_mode_from_name(const char *name, int *mode);
+
+/* Commissioning's results in SI units (the controller's Q14 ratios times
+ * the userparms.h values the core was built with); `ran`: a commissioning
+ * was started, `valid`: it ended with its results. */
+typedef struct {
+    int ran, valid;
+    const char *failed_step; /* "NONE" unless a step failed */
+    double rs_ohm, ld_h, lq_h, flux_wb;
+} sim_commission_t;
+
+void sim_commission_results(const sim_t *s, sim_commission_t *out);
+
+/* The summary's keys id_rs_ohm, id_ld_h, id_lq_h, id_flux_wb (and
+ * commission_step when one failed), only if a commissioning ran. */
+void sim_commission_print(const sim_t *s, FILE *f);
+
+/* A motor description tools/tune.py reads ([motor], per-phase values of
+ * the star equivalent) from the results and the userparms.h the firmware
+ * was built with (pole pairs, speeds, currents, inertia and friction,
+ * which commissioning does not measure); -1 without valid results. */
+int sim_commission_ini(const sim_t *s, FILE *f);
 
 /* Q15 speed to mechanical rpm and back (saturating). */
 double sim_rpm_from_q15(q15_t speed);

@@ -1,0 +1,119 @@
+/*
+ * Self-commissioning (issue 12, docs/commissioning.md): the motor's Rs,
+ * Ld, Lq and flux linkage measured through the port, as ratios to the
+ * userparms.h values the firmware was built with.
+ *
+ * The controller runs it in FOC_STATE_COMMISSION (foc_cmd_commission from
+ * IDLE) and ends in IDLE with `valid` set, or in FAULT COMMISSION_FAILED
+ * with `failed_step`.  This block holds the sequence (foc_comm_tick, one
+ * slow tick) and its arithmetic; the per-period work it asks for
+ * (foc_comm_mode_t) is the controller's forced-frame current loop plus
+ * foc_comm_sum, or the inductance pulses of foc_comm_pulse.
+ *
+ * Steps (each with a timeout, FOC_COMM_STEP_TIMEOUT_TICKS):
+ *   OFFSETS  bridge off: the current sense's calibration; an offset beyond
+ *            FOC_COMM_OFFSET_MAX fails.
+ *   ALIGN    the start-up's alignment to angle 0, then the rotor settles.
+ *   RS       d current FOC_COMM_I_HIGH then FOC_COMM_I_LOW, each held and
+ *            summed over FOC_COMM_SUM_N periods: Rs = dVd / dId (the
+ *            dead time's and the switches' drop, the same at both, cancel).
+ *   LD, LQ   held at FOC_COMM_I_LOW on d, a square wave of +-dV on one
+ *            axis; the current's slope over each half by least squares:
+ *            L = dV / slope (Rs cancels to first order: at the middle of a
+ *            half the current is at its mean).
+ *   FLUX     I/f spin at FOC_COMM_SPIN_SPEED (the start-up's ramp and
+ *            current); in the forced frame E = V - Rs I - j w Lq I lies on
+ *            the rotor's q axis, |E| = w (psi + (Ld - Lq) id_rotor).
+ * Results, Q14 ratios to the parameter (16384 = 1.0), accepted within
+ * [0.25, 2): outside, the step fails (an open winding, a rotor that does
+ * not follow, a sensor that reads nothing).
+ *
+ * Concurrency as in controller.h: [slow] fields written by foc_comm_tick,
+ * [fast] by foc_comm_sum / foc_comm_pulse; the slow step reads the sums
+ * only once `count` says the fast step is done with them.
+ */
+#ifndef FOC_COMMISSION_H
+#define FOC_COMMISSION_H
+
+#include <stdint.h>
+#include "foc/q15.h"
+#include "foc/startup.h"
+#include "foc/transforms.h"
+
+typedef enum {
+    FOC_COMM_STEP_NONE = 0,
+    FOC_COMM_STEP_OFFSETS,
+    FOC_COMM_STEP_ALIGN,
+    FOC_COMM_STEP_RS,
+    FOC_COMM_STEP_LD,
+    FOC_COMM_STEP_LQ,
+    FOC_COMM_STEP_FLUX
+} foc_comm_step_t;
+
+/* What the fast step runs (foc_comm_t.mode). */
+typedef enum {
+    FOC_COMM_MODE_OFF = 0, /* bridge off (offsets: the calibration sums) */
+    FOC_COMM_MODE_HOLD,    /* forced-frame current loop on the startup's */
+    FOC_COMM_MODE_SUM,     /* angle, SUM: and foc_comm_sum */
+    FOC_COMM_MODE_PULSE_D, /* the held voltages plus foc_comm_pulse on d */
+    FOC_COMM_MODE_PULSE_Q, /* ... on q */
+    FOC_COMM_MODE_SPIN,    /* HOLD with the forced angle turning */
+    FOC_COMM_MODE_SPIN_SUM /* SPIN and foc_comm_sum */
+} foc_comm_mode_t;
+
+typedef enum {
+    FOC_COMM_BUSY = 0,
+    FOC_COMM_DONE,
+    FOC_COMM_FAILED
+} foc_comm_status_t;
+
+typedef struct {
+    uint8_t step;        /* [slow] foc_comm_step_t */
+    uint8_t mode;        /* [slow] foc_comm_mode_t */
+    uint8_t level;       /* [slow] RS: 0 the high current, 1 the low */
+    uint8_t failed_step; /* [slow] foc_comm_step_t that failed, 0 none */
+    uint8_t valid;       /* [slow] 1: the results below are measured */
+    uint8_t fast_mode;   /* [fast] the mode its sums belong to */
+    uint8_t phase;       /* [fast] pulse: period in the cycle, 0 .. 2N-1 */
+    uint16_t cycles;     /* [fast] pulse: cycles done (2 settle first) */
+    uint16_t count;      /* [fast] periods (SUM) or cycles (PULSE) summed; */
+                         /* its target reached: the sums are the slow's */
+    uint16_t ticks;      /* [slow] slow ticks in the step */
+    int32_t sum[4];      /* [fast] SUM: vd, vq, id, iq (Q15 x 2^12); */
+                         /* PULSE: sum[0] the regression sum u x i */
+    int32_t rs_v_high;   /* [slow] RS: the high level's vd and id sums */
+    int32_t rs_i_high;
+    /* results, Q14 ratios to MOTOR_RS_OHM, MOTOR_LD_H, MOTOR_LQ_H and
+     * the flux of MOTOR_KE_VPK_PER_KRPM, in [4096, 32767] when valid */
+    q15_t rs_q14;
+    q15_t ld_q14;
+    q15_t lq_q14;
+    q15_t flux_q14;
+} foc_comm_t;
+
+/* Inputs of a slow tick from the controller. */
+typedef struct {
+    uint8_t calibrated;  /* the current sense's offsets are taken */
+    foc_abc_t offset;    /* and these they are (Q15) */
+} foc_comm_in_t;
+
+/* Starts the sequence (OFFSETS, bridge off); the results are forgotten. */
+void foc_comm_begin(foc_comm_t *m);
+
+/* One slow tick: the sequence.  Drives the forced frame and its current
+ * (su->theta32, su->speed, su->current: the controller's d reference). */
+foc_comm_status_t foc_comm_tick(foc_comm_t *m, foc_startup_t *su, const foc_comm_in_t *in);
+
+/* SUM / SPIN_SUM, once per period after the current loop: the forced
+ * frame's voltage command and current (Q15). */
+void foc_comm_sum(foc_comm_t *m, foc_dq_t v, foc_dq_t i);
+
+/* PULSE_D / PULSE_Q, once per period: `i_axis`, the pulsed axis's current
+ * sampled this period (Q15), joins the regression; returns the voltage to
+ * add to that axis's held voltage this period (Q15, +-dV). */
+q15_t foc_comm_pulse(foc_comm_t *m, q15_t i_axis);
+
+/* "NONE", "OFFSETS", "ALIGN", "RS", "LD", "LQ", "FLUX". */
+const char *foc_comm_step_name(uint8_t step);
+
+#endif /* FOC_COMMISSION_H */

@@ -1,0 +1,343 @@
+#include "foc/commission.h"
+#include "foc/config.h"
+#include "foc/sqrt.h"
+
+/* A result is accepted within [0.25, 2) of the parameter (Q14). */
+#define RATIO_MIN_Q14 4096
+#define RATIO_MAX_Q14 32767
+
+void foc_comm_begin(foc_comm_t *m)
+{
+    m->step = (uint8_t)FOC_COMM_STEP_OFFSETS;
+    m->mode = (uint8_t)FOC_COMM_MODE_OFF;
+    m->level = 0;
+    m->failed_step = (uint8_t)FOC_COMM_STEP_NONE;
+    m->valid = 0;
+    m->ticks = 0;
+    m->rs_q14 = 0;
+    m->ld_q14 = 0;
+    m->lq_q14 = 0;
+    m->flux_q14 = 0;
+}
+
+/* ------------------------------------------------------------ per period */
+
+/* A new mode: its sums start from zero, a pulse train half a half-period
+ * in (so the triangle it drives is centred on the held current). */
+static void fast_sync(foc_comm_t *m)
+{
+    if (m->fast_mode != m->mode) {
+        m->fast_mode = m->mode;
+        m->sum[0] = 0;
+        m->sum[1] = 0;
+        m->sum[2] = 0;
+        m->sum[3] = 0;
+        m->count = 0;
+        m->cycles = 0;
+        m->phase = (uint8_t)(FOC_COMM_PULSE_N / 2u);
+    }
+}
+
+void foc_comm_sum(foc_comm_t *m, foc_dq_t v, foc_dq_t i)
+{
+    fast_sync(m);
+    if (m->count < FOC_COMM_SUM_N) { /* each sum within 2^15 x 2^12 */
+        m->sum[0] += v.d;
+        m->sum[1] += v.q;
+        m->sum[2] += i.d;
+        m->sum[3] += i.q;
+        m->count++;
+    }
+}
+
+q15_t foc_comm_pulse(foc_comm_t *m, q15_t i_axis)
+{
+    fast_sync(m);
+    const int32_t k = m->phase;
+    const int32_t n = FOC_COMM_PULSE_N;
+    if (m->cycles >= 2u && m->count < FOC_COMM_PULSE_CYCLES) {
+        /* weight u = 2 j - (WIN_N - 1) of window sample j = k - 3 (|u| <
+         * 32, |u i| < 2^20; a half's partial sum within 2^25 and the total,
+         * the slope's share, within FOC_COMM_PULSE_SUM x 4 < 2^31) */
+        if (k >= 3 && k < n) {
+            m->sum[0] += (2 * (k - 3) - (FOC_COMM_WIN_N - 1)) * (int32_t)i_axis;
+        } else if (k >= n + 3) {
+            m->sum[0] -= (2 * (k - n - 3) - (FOC_COMM_WIN_N - 1)) * (int32_t)i_axis;
+        }
+    }
+    if (k + 1 >= 2 * n) {
+        m->phase = 0;
+        if (m->cycles >= 2u) {
+            if (m->count < FOC_COMM_PULSE_CYCLES) {
+                m->count++;
+            }
+        } else {
+            m->cycles++;
+        }
+    } else {
+        m->phase = (uint8_t)(k + 1);
+    }
+    const q15_t dv = (m->mode == (uint8_t)FOC_COMM_MODE_PULSE_D) ? FOC_COMM_PULSE_DV_D : FOC_COMM_PULSE_DV_Q;
+    return (k < n) ? dv : (q15_t)-dv;
+}
+
+/* ------------------------------------------------------------ arithmetic */
+
+/* Q14 ratio of a measure to its parameter: (num / den) / (param_q20 /
+ * 2^20) x 2^14, in 64 bits (num within 2^28: x 2^34 within 2^62); 0 when
+ * den is not positive, held to [0, 2^20]. */
+static int32_t ratio_q14(int32_t num, int32_t den, int32_t param_q20)
+{
+    if (den <= 0) {
+        return 0;
+    }
+    const int64_t r = ((int64_t)num * ((int64_t)1 << 34)) / ((int64_t)den * param_q20);
+    return (r < 0) ? 0 : (r > 1048576) ? 1048576 : (int32_t)r;
+}
+
+static uint8_t plausible(int32_t r)
+{
+    return (uint8_t)(r >= RATIO_MIN_Q14 && r <= RATIO_MAX_Q14);
+}
+
+/* Mean of a sum of FOC_COMM_SUM_N Q15 values, rounded (Q15). */
+static int32_t mean_q15(int32_t sum)
+{
+    return (sum + (int32_t)(FOC_COMM_SUM_N / 2u)) / (int32_t)FOC_COMM_SUM_N;
+}
+
+/* L / L_param from the regression sum: the parameter's sum over the
+ * measured one (a larger L, a smaller slope). */
+static int32_t inductance_q14(int32_t sum, int32_t sum_param)
+{
+    if (sum <= 0) {
+        return 0;
+    }
+    const int64_t r = ((int64_t)sum_param * 16384) / sum;
+    return (r > 1048576) ? 1048576 : (int32_t)r;
+}
+
+static int32_t sat_q15(int32_t x)
+{
+    return (x > 32767) ? 32767 : (x < -32767) ? -32767 : x;
+}
+
+/* The flux from the spin's means (forced frame, Q15) at the forced speed
+ * `speed` (Q15, > 0): E = V - Rs I - j w Lq I (Rs, Lq the measured ones)
+ * lies on the rotor's q axis; the rotor's d current is I's component
+ * along E turned back 90 deg; psi = |E| / w - (Ld - Lq) id_rotor, against
+ * the parameter's w_base psi / V_base (FOC_COMM_KE_Q15).  Per-unit
+ * reactances in Q20 (each below 2^31: config.h). */
+static int32_t flux_q14(const foc_comm_t *m, q15_t speed)
+{
+    const int32_t vx = mean_q15(m->sum[0]);
+    const int32_t vy = mean_q15(m->sum[1]);
+    const int32_t ix = mean_q15(m->sum[2]);
+    const int32_t iy = mean_q15(m->sum[3]);
+    const int64_t rs_q20 = ((int64_t)FOC_COMM_RS_Q20 * m->rs_q14) >> 14;
+    /* w Lq at this speed, Q20 per-unit */
+    const int64_t xq_q20 = ((((int64_t)FOC_COMM_XQ_Q20 * speed) >> 15) * m->lq_q14) >> 14;
+    const int32_t ex = sat_q15(vx - (int32_t)((rs_q20 * ix) >> 20) + (int32_t)((xq_q20 * iy) >> 20));
+    const int32_t ey = sat_q15(vy - (int32_t)((rs_q20 * iy) >> 20) - (int32_t)((xq_q20 * ix) >> 20));
+    /* each square below 2^30: the sum fits 32 bits unsigned */
+    const int32_t e = (int32_t)foc_isqrt32((uint32_t)(ex * ex) + (uint32_t)(ey * ey));
+    if (e <= 0 || speed <= 0) {
+        return 0;
+    }
+    const int32_t id_rotor = (int32_t)(((int64_t)ix * ey - (int64_t)iy * ex) / e);
+    const int64_t xdq_q20 = ((int64_t)FOC_COMM_XD_Q20 * m->ld_q14 - (int64_t)FOC_COMM_XQ_Q20 * m->lq_q14) >> 14;
+    const int64_t psi_q15 = ((int64_t)e * 32768) / speed - ((xdq_q20 * id_rotor) >> 20);
+    const int64_t r = (psi_q15 * 16384) / FOC_COMM_KE_Q15;
+    return (r < 0) ? 0 : (r > 1048576) ? 1048576 : (int32_t)r;
+}
+
+/* ------------------------------------------------------------- sequence */
+
+static void next_step(foc_comm_t *m, foc_comm_step_t step, foc_comm_mode_t mode)
+{
+    m->step = (uint8_t)step;
+    m->mode = (uint8_t)mode;
+    m->level = 0;
+    m->ticks = 0;
+}
+
+static foc_comm_status_t fail(foc_comm_t *m)
+{
+    m->failed_step = m->step;
+    m->mode = (uint8_t)FOC_COMM_MODE_OFF;
+    return FOC_COMM_FAILED;
+}
+
+static uint8_t offsets_ok(const foc_abc_t *o)
+{
+    return (uint8_t)(foc_abs_q15(o->a) <= FOC_COMM_OFFSET_MAX && foc_abs_q15(o->b) <= FOC_COMM_OFFSET_MAX &&
+                     foc_abs_q15(o->c) <= FOC_COMM_OFFSET_MAX);
+}
+
+/* The d current held for the electrical settling, then summed: 1 once
+ * the fast step's sums are complete. */
+static uint8_t held_and_summed(foc_comm_t *m)
+{
+    if (m->mode == (uint8_t)FOC_COMM_MODE_HOLD) {
+        if (m->ticks >= FOC_COMM_SETTLE_TICKS) {
+            m->mode = (uint8_t)FOC_COMM_MODE_SUM;
+        }
+        return 0;
+    }
+    return (uint8_t)(m->fast_mode == m->mode && m->count >= FOC_COMM_SUM_N);
+}
+
+/* The same for a pulse train on one axis. */
+static uint8_t held_and_pulsed(foc_comm_t *m, foc_comm_mode_t pulse)
+{
+    if (m->mode == (uint8_t)FOC_COMM_MODE_HOLD) {
+        if (m->ticks >= FOC_COMM_SETTLE_TICKS) {
+            m->mode = (uint8_t)pulse;
+        }
+        return 0;
+    }
+    return (uint8_t)(m->fast_mode == m->mode && m->count >= FOC_COMM_PULSE_CYCLES);
+}
+
+static foc_comm_status_t rs_tick(foc_comm_t *m, foc_startup_t *su)
+{
+    su->current = (m->level == 0u) ? FOC_COMM_I_HIGH : FOC_COMM_I_LOW;
+    if (held_and_summed(m) == 0u) {
+        return FOC_COMM_BUSY;
+    }
+    if (m->level == 0u) {
+        /* no current where one was asked: an open phase, a dead sensor */
+        if (mean_q15(m->sum[2]) < (FOC_COMM_I_HIGH / 4) * 3) {
+            return fail(m);
+        }
+        m->rs_v_high = m->sum[0];
+        m->rs_i_high = m->sum[2];
+        m->level = 1;
+        m->ticks = 0;
+        m->mode = (uint8_t)FOC_COMM_MODE_HOLD;
+        return FOC_COMM_BUSY;
+    }
+    const int32_t di = m->rs_i_high - m->sum[2];
+    /* the two levels' currents at least a quarter of the high one apart */
+    if (mean_q15(di) < FOC_COMM_I_HIGH / 4) {
+        return fail(m);
+    }
+    const int32_t r = ratio_q14(m->rs_v_high - m->sum[0], di, FOC_COMM_RS_Q20);
+    if (plausible(r) == 0u) {
+        return fail(m);
+    }
+    m->rs_q14 = (q15_t)r;
+    next_step(m, FOC_COMM_STEP_LD, FOC_COMM_MODE_HOLD);
+    return FOC_COMM_BUSY;
+}
+
+static foc_comm_status_t inductance_tick(foc_comm_t *m, foc_startup_t *su)
+{
+    const uint8_t d = (uint8_t)(m->step == (uint8_t)FOC_COMM_STEP_LD);
+    su->current = FOC_COMM_I_LOW;
+    if (held_and_pulsed(m, d ? FOC_COMM_MODE_PULSE_D : FOC_COMM_MODE_PULSE_Q) == 0u) {
+        return FOC_COMM_BUSY;
+    }
+    const int32_t r = inductance_q14(m->sum[0], d ? FOC_COMM_PULSE_SUM_D : FOC_COMM_PULSE_SUM_Q);
+    if (plausible(r) == 0u) {
+        return fail(m);
+    }
+    if (d != 0u) {
+        m->ld_q14 = (q15_t)r;
+        next_step(m, FOC_COMM_STEP_LQ, FOC_COMM_MODE_HOLD);
+    } else {
+        m->lq_q14 = (q15_t)r;
+        /* the I/f spin from the aligned rotor, the start-up's ramp */
+        su->direction = 1;
+        su->speed16 = 0;
+        su->speed = 0;
+        su->ticks = 0;
+        su->current = FOC_OL_CURRENT_FIRST;
+        next_step(m, FOC_COMM_STEP_FLUX, FOC_COMM_MODE_SPIN);
+    }
+    return FOC_COMM_BUSY;
+}
+
+/* FLUX: level 0 the ramp, 1 the swing settling, 2 the sums. */
+static foc_comm_status_t flux_tick(foc_comm_t *m, foc_startup_t *su)
+{
+    foc_startup_ramp_tick(su, FOC_COMM_SPIN_SPEED);
+    if (m->level == 0u) {
+        if (su->speed >= FOC_COMM_SPIN_SPEED) {
+            m->level = 1;
+            m->ticks = 0;
+        }
+        return FOC_COMM_BUSY;
+    }
+    if (m->level == 1u) {
+        if (m->ticks >= FOC_COMM_SPIN_SETTLE_TICKS) {
+            m->level = 2;
+            m->mode = (uint8_t)FOC_COMM_MODE_SPIN_SUM;
+        }
+        return FOC_COMM_BUSY;
+    }
+    if (m->fast_mode != m->mode || m->count < FOC_COMM_SUM_N) {
+        return FOC_COMM_BUSY;
+    }
+    /* a rotor that does not follow shows (almost) no back-EMF */
+    const int32_t r = flux_q14(m, su->speed);
+    if (plausible(r) == 0u) {
+        return fail(m);
+    }
+    m->flux_q14 = (q15_t)r;
+    m->mode = (uint8_t)FOC_COMM_MODE_OFF;
+    m->valid = 1;
+    return FOC_COMM_DONE;
+}
+
+foc_comm_status_t foc_comm_tick(foc_comm_t *m, foc_startup_t *su, const foc_comm_in_t *in)
+{
+    if (m->ticks < UINT16_MAX) {
+        m->ticks++;
+    }
+    if (m->ticks > FOC_COMM_STEP_TIMEOUT_TICKS) {
+        return fail(m);
+    }
+    switch (m->step) {
+    case FOC_COMM_STEP_OFFSETS:
+        if (in->calibrated == 0u || m->ticks < FOC_CALIB_TICKS) {
+            return FOC_COMM_BUSY;
+        }
+        if (offsets_ok(&in->offset) == 0u) {
+            return fail(m);
+        }
+        foc_startup_begin(su, 1);
+        next_step(m, FOC_COMM_STEP_ALIGN, FOC_COMM_MODE_HOLD);
+        return FOC_COMM_BUSY;
+    case FOC_COMM_STEP_ALIGN:
+        /* the start-up's alignment to angle 0, then the rotor settles at
+         * the high current */
+        if (m->level == 0u) {
+            if (foc_startup_align_tick(su) != 0u) {
+                m->level = 1;
+                m->ticks = 0;
+            }
+        } else if (m->ticks >= FOC_COMM_ROTOR_SETTLE_TICKS) {
+            next_step(m, FOC_COMM_STEP_RS, FOC_COMM_MODE_HOLD);
+        }
+        if (m->level != 0u) {
+            su->current = FOC_COMM_I_HIGH;
+        }
+        return FOC_COMM_BUSY;
+    case FOC_COMM_STEP_RS:
+        return rs_tick(m, su);
+    case FOC_COMM_STEP_LD:
+    case FOC_COMM_STEP_LQ:
+        return inductance_tick(m, su);
+    case FOC_COMM_STEP_FLUX:
+        return flux_tick(m, su);
+    default:
+        return fail(m);
+    }
+}
+
+const char *foc_comm_step_name(uint8_t step)
+{
+    static const char *const names[] = { "NONE", "OFFSETS", "ALIGN", "RS", "LD", "LQ", "FLUX" };
+    return (step < sizeof names / sizeof names[0]) ? names[step] : "?";
+}
