@@ -50,19 +50,36 @@ void foc_comm_sum(foc_comm_t *m, foc_dq_t v, foc_dq_t i)
     }
 }
 
-q15_t foc_comm_pulse(foc_comm_t *m, q15_t i_axis)
+/* Window sample j of n (0 .. n-1) has the least-squares weight
+ * u = 2 j - (n - 1) (sum u i: the slope times sum u^2 / 2).  Summed by
+ * parts, sum u i = sum over the intervals of W (the current's step), with
+ * W = (j + 1) (n - 1 - j) after sample j; the step is (dV - Rs x the
+ * interval's mean deviation) Ts / L, so the deviations weighted by the
+ * mean of the W on either side, V = (2 j (n - 1 - j) + n - 1) / 2, give
+ * Rs's share.  Both summed with the sign of the half, the hold cancels. */
+static void pulse_add(foc_comm_t *m, int32_t j, int32_t dev, int32_t sign)
+{
+    const int32_t n = FOC_COMM_WIN_N;
+    const int32_t u = 2 * j - (n - 1);           /* |u| < 32 */
+    const int32_t v2 = 2 * j * (n - 1 - j) + n - 1; /* 2V < 512 */
+    /* |dev| < 2^16: |u dev| < 2^21, |2V dev| < 2^25, shifted 4: the
+     * totals, a slope's and a second-order share, stay within 2^31 */
+    m->sum[0] += sign * u * dev;
+    m->sum[1] += sign * ((v2 * dev) / 16);
+}
+
+q15_t foc_comm_pulse(foc_comm_t *m, q15_t i_axis, q15_t i_hold)
 {
     fast_sync(m);
     const int32_t k = m->phase;
     const int32_t n = FOC_COMM_PULSE_N;
     if (m->cycles >= 2u && m->count < FOC_COMM_PULSE_CYCLES) {
-        /* weight u = 2 j - (WIN_N - 1) of window sample j = k - 3 (|u| <
-         * 32, |u i| < 2^20; a half's partial sum within 2^25 and the total,
-         * the slope's share, within FOC_COMM_PULSE_SUM x 4 < 2^31) */
+        /* window: samples 3 .. N-1 of each half */
+        const int32_t dev = (int32_t)i_axis - i_hold;
         if (k >= 3 && k < n) {
-            m->sum[0] += (2 * (k - 3) - (FOC_COMM_WIN_N - 1)) * (int32_t)i_axis;
+            pulse_add(m, k - 3, dev, 1);
         } else if (k >= n + 3) {
-            m->sum[0] -= (2 * (k - n - 3) - (FOC_COMM_WIN_N - 1)) * (int32_t)i_axis;
+            pulse_add(m, k - n - 3, dev, -1);
         }
     }
     if (k + 1 >= 2 * n) {
@@ -106,15 +123,18 @@ static int32_t mean_q15(int32_t sum)
     return (sum + (int32_t)(FOC_COMM_SUM_N / 2u)) / (int32_t)FOC_COMM_SUM_N;
 }
 
-/* L / L_param from the regression sum: the parameter's sum over the
- * measured one (a larger L, a smaller slope). */
-static int32_t inductance_q14(int32_t sum, int32_t sum_param)
+/* L / L_param from the pulse sums: sum[0] = Ts / L x (dV x 2 cycles
+ * x sum W - Rs x the weighted deviations, sum[1] x 16 / 2), against the
+ * parameter's sum_param = Ts / L_param x dV x 2 cycles x sum W; Rs's
+ * share with the measured Rs (ts_tau_q20: Ts Rs / L_param, Q20). */
+static int32_t inductance_q14(const foc_comm_t *m, int32_t sum_param, int32_t ts_tau_q20)
 {
-    if (sum <= 0) {
+    if (m->sum[0] <= 0) {
         return 0;
     }
-    const int64_t r = ((int64_t)sum_param * 16384) / sum;
-    return (r > 1048576) ? 1048576 : (int32_t)r;
+    const int64_t rs_share = ((((int64_t)ts_tau_q20 * m->rs_q14) >> 14) * m->sum[1] * 8) >> 20;
+    const int64_t r = (((int64_t)sum_param - rs_share) * 16384) / m->sum[0];
+    return (r < 0) ? 0 : (r > 1048576) ? 1048576 : (int32_t)r;
 }
 
 static int32_t sat_q15(int32_t x)
@@ -238,7 +258,8 @@ static foc_comm_status_t inductance_tick(foc_comm_t *m, foc_startup_t *su)
     if (held_and_pulsed(m, d ? FOC_COMM_MODE_PULSE_D : FOC_COMM_MODE_PULSE_Q) == 0u) {
         return FOC_COMM_BUSY;
     }
-    const int32_t r = inductance_q14(m->sum[0], d ? FOC_COMM_PULSE_SUM_D : FOC_COMM_PULSE_SUM_Q);
+    const int32_t r = d ? inductance_q14(m, FOC_COMM_PULSE_SUM_D, FOC_COMM_TS_TAU_D_Q20)
+                        : inductance_q14(m, FOC_COMM_PULSE_SUM_Q, FOC_COMM_TS_TAU_Q_Q20);
     if (plausible(r) == 0u) {
         return fail(m);
     }

@@ -198,6 +198,30 @@ static inline uint8_t current_lost(foc_ab_t i)
                      FOC_CURRENT_TRIP_SQ_Q30);
 }
 
+/* The voltage the bridge applied in the period that just ended (stator
+ * frame): computed two steps ago (`v_prev`: the PWM unit applies duties
+ * one period late), plus part of the last command `v_last` where the
+ * duties are loaded mid-way between two samples (SAMPLE_DELAY_PERIODS <
+ * 1.5), plus the dead-time error for the current that flowed (the mean of
+ * the samples `i_last` and `i_now`). */
+static inline foc_ab_t applied_voltage(const foc_ctrl_t *c, foc_ab_t v_prev, foc_ab_t v_last,
+                                       foc_ab_t i_last, foc_ab_t i_now)
+{
+    foc_ab_t v = v_prev;
+    if (FOC_V_NEW_WEIGHT != 0) {
+        v.alpha = (q15_t)(v.alpha + ((((int32_t)v_last.alpha - v.alpha) * FOC_V_NEW_WEIGHT) >> 15));
+        v.beta = (q15_t)(v.beta + ((((int32_t)v_last.beta - v.beta) * FOC_V_NEW_WEIGHT) >> 15));
+    }
+    if (c->opt.deadtime_comp != 0u) {
+        const foc_ab_t i_mid = { (q15_t)(((int32_t)i_last.alpha + i_now.alpha) >> 1),
+                                 (q15_t)(((int32_t)i_last.beta + i_now.beta) >> 1) };
+        const foc_ab_t err = foc_deadtime_error_ab(foc_iclarke_q15(i_mid));
+        v.alpha = foc_add_q15(v.alpha, err.alpha);
+        v.beta = foc_add_q15(v.beta, err.beta);
+    }
+    return v;
+}
+
 /* c->v_dq to the bridge on the angle sc_v: inverse Park, the dead-time
  * correction of the reference's current, bus compensation, SVM. */
 static inline void apply_voltage(foc_ctrl_t *c, foc_sincos_t sc_v)
@@ -309,25 +333,7 @@ static void current_loop(foc_ctrl_t *c, uint8_t frame)
         return;
     }
 
-    /* The voltage applied in the period that just ended was computed two
-     * steps ago (the PWM unit applies duties one period late), plus the
-     * dead-time error for the current that flowed then. */
-    foc_ab_t v_applied = c->v_ab_prev;
-    if (FOC_V_NEW_WEIGHT != 0) {
-        /* duties loaded mid-way between two samples: part of the last
-         * command acted too (SAMPLE_DELAY_PERIODS < 1.5) */
-        v_applied.alpha = (q15_t)(v_applied.alpha +
-                                  ((((int32_t)c->v_ab.alpha - v_applied.alpha) * FOC_V_NEW_WEIGHT) >> 15));
-        v_applied.beta = (q15_t)(v_applied.beta +
-                                 ((((int32_t)c->v_ab.beta - v_applied.beta) * FOC_V_NEW_WEIGHT) >> 15));
-    }
-    if (c->opt.deadtime_comp != 0u) {
-        const foc_ab_t i_mid = { (q15_t)(((int32_t)i_last.alpha + c->i_ab.alpha) >> 1),
-                                 (q15_t)(((int32_t)i_last.beta + c->i_ab.beta) >> 1) };
-        const foc_ab_t err = foc_deadtime_error_ab(foc_iclarke_q15(i_mid));
-        v_applied.alpha = foc_add_q15(v_applied.alpha, err.alpha);
-        v_applied.beta = foc_add_q15(v_applied.beta, err.beta);
-    }
+    const foc_ab_t v_applied = applied_voltage(c, c->v_ab_prev, c->v_ab, i_last, c->i_ab);
     const foc_est_input_t in = { v_applied, c->i_ab, c->i_ref_slewed.q, c->samples.theta_sensor };
     foc_est_step(&c->est, &in);
     c->v_ab_prev = c->v_ab;
@@ -370,7 +376,8 @@ FOC_COLD static void commission_pulse(foc_ctrl_t *c, uint8_t on_d)
     }
     const foc_sincos_t sc = foc_sincos_q15(foc_startup_angle(&c->startup));
     c->i_dq = foc_park_q15(c->i_ab, sc);
-    const q15_t dv = foc_comm_pulse(&c->comm, (on_d != 0u) ? c->i_dq.d : c->i_dq.q);
+    const q15_t dv = (on_d != 0u) ? foc_comm_pulse(&c->comm, c->i_dq.d, c->i_ref_slewed.d)
+                                  : foc_comm_pulse(&c->comm, c->i_dq.q, c->i_ref_slewed.q);
     const q15_t v_max = c->bus.v_max;
     const int32_t vd = c->current_ctrl.pi_d.integ / 32768 + ((on_d != 0u) ? dv : 0);
     const int32_t vq = c->current_ctrl.pi_q.integ / 32768 + ((on_d != 0u) ? 0 : dv);
@@ -381,7 +388,14 @@ FOC_COLD static void commission_pulse(foc_ctrl_t *c, uint8_t on_d)
 }
 
 /* COMMISSION's period: the offsets' sums with the bridge off, the pulses,
- * or the forced-frame current loop (turning in the spin) and the sums. */
+ * or the forced-frame current loop and the sums.  At standstill the
+ * voltage summed is the command (the d PI's: Rs from two levels cancels
+ * the bridge's errors); in the spin it is the voltage the bridge applied
+ * in the period that just ended, dead time included (the current's angle
+ * in the forced frame is not the reference's, so the compensation, made
+ * for the reference, leaves an error: 1 V of the Hurst075's 2 V of
+ * back-EMF at half flux), turned into the forced frame at that period's
+ * middle. */
 FOC_COLD static void commission_fast(foc_ctrl_t *c)
 {
     const uint8_t mode = c->comm.mode;
@@ -389,10 +403,17 @@ FOC_COLD static void commission_fast(foc_ctrl_t *c)
         foc_cs_calib_add(&c->current_sense, &c->samples);
     } else if (mode == (uint8_t)FOC_COMM_MODE_PULSE_D || mode == (uint8_t)FOC_COMM_MODE_PULSE_Q) {
         commission_pulse(c, (uint8_t)(mode == (uint8_t)FOC_COMM_MODE_PULSE_D));
+    } else if (mode == (uint8_t)FOC_COMM_MODE_SPIN || mode == (uint8_t)FOC_COMM_MODE_SPIN_SUM) {
+        const foc_ab_t i_last = c->i_ab;
+        const foc_ab_t v_prev = c->v_ab_prev;
+        const foc_ab_t v_last = c->v_ab;
+        const uint16_t before = foc_startup_angle(&c->startup);
+        foc_startup_fast(&c->startup);
+        current_loop(c, FRAME_FORCED);
+        const uint16_t mid = (uint16_t)(before + (uint16_t)(foc_startup_angle(&c->startup) - before) / 2u);
+        const foc_ab_t v = applied_voltage(c, v_prev, v_last, i_last, c->i_ab);
+        foc_comm_sum(&c->comm, foc_park_q15(v, foc_sincos_q15(mid)), c->i_dq);
     } else {
-        if (mode == (uint8_t)FOC_COMM_MODE_SPIN || mode == (uint8_t)FOC_COMM_MODE_SPIN_SUM) {
-            foc_startup_fast(&c->startup);
-        }
         current_loop(c, FRAME_FORCED);
         foc_comm_sum(&c->comm, c->v_dq, c->i_dq);
     }

@@ -18,9 +18,10 @@
  *            summed over FOC_COMM_SUM_N periods: Rs = dVd / dId (the
  *            dead time's and the switches' drop, the same at both, cancel).
  *   LD, LQ   held at FOC_COMM_I_LOW on d, a square wave of +-dV on one
- *            axis; the current's slope over each half by least squares:
- *            L = dV / slope (Rs cancels to first order: at the middle of a
- *            half the current is at its mean).
+ *            axis; the current's slope over each half by least squares,
+ *            which is a weighted mean of di/dt = (dV - Rs (i - i_hold)) / L:
+ *            the same weights on the current give Rs's share, so
+ *            L = (dV - Rs <i - i_hold>) / slope at any Rs / L.
  *   FLUX     I/f spin at FOC_COMM_SPIN_SPEED (the start-up's ramp and
  *            current); in the forced frame E = V - Rs I - j w Lq I lies on
  *            the rotor's q axis, |E| = w (psi + (Ld - Lq) id_rotor).
@@ -80,7 +81,9 @@ typedef struct {
                          /* its target reached: the sums are the slow's */
     uint16_t ticks;      /* [slow] slow ticks in the step */
     int32_t sum[4];      /* [fast] SUM: vd, vq, id, iq (Q15 x 2^12); */
-                         /* PULSE: sum[0] the regression sum u x i */
+                         /* PULSE: sum[0] the regression sum u x di, */
+                         /* sum[1] the weighted deviation (2V x di) / 16 */
+                         /* (commission.c, foc_comm_pulse) */
     int32_t rs_v_high;   /* [slow] RS: the high level's vd and id sums */
     int32_t rs_i_high;
     /* results, Q14 ratios to MOTOR_RS_OHM, MOTOR_LD_H, MOTOR_LQ_H and
@@ -109,9 +112,10 @@ foc_comm_status_t foc_comm_tick(foc_comm_t *m, foc_startup_t *su, const foc_comm
 void foc_comm_sum(foc_comm_t *m, foc_dq_t v, foc_dq_t i);
 
 /* PULSE_D / PULSE_Q, once per period: `i_axis`, the pulsed axis's current
- * sampled this period (Q15), joins the regression; returns the voltage to
- * add to that axis's held voltage this period (Q15, +-dV). */
-q15_t foc_comm_pulse(foc_comm_t *m, q15_t i_axis);
+ * sampled this period, less `i_hold`, the current held on it (Q15), joins
+ * the regression; returns the voltage to add to that axis's held voltage
+ * this period (Q15, +-dV). */
+q15_t foc_comm_pulse(foc_comm_t *m, q15_t i_axis, q15_t i_hold);
 
 /* "NONE", "OFFSETS", "ALIGN", "RS", "LD", "LQ", "FLUX". */
 const char *foc_comm_step_name(uint8_t step);

@@ -680,6 +680,10 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
     ((int32_t)((double)FOC_COMM_PULSE_CYCLES * FOC_COMM_PULSE_DV_D * FOC_COMM_SLOPE_PER_V(MOTOR_LD_H) * FOC_COMM_SUM_U2_D + 0.5))
 #define FOC_COMM_PULSE_SUM_Q                                                   \
     ((int32_t)((double)FOC_COMM_PULSE_CYCLES * FOC_COMM_PULSE_DV_Q * FOC_COMM_SLOPE_PER_V(MOTOR_LQ_H) * FOC_COMM_SUM_U2_D + 0.5))
+/* Rs's share of the slope: Ts Rs / L of the parameters, Q20 (< 2^20:
+ * a winding with Ts > L / Rs is refused below). */
+#define FOC_COMM_TS_TAU_D_Q20 ((int32_t)(FOC_TS_S * MOTOR_RS_OHM / MOTOR_LD_H * 1048576.0 + 0.5))
+#define FOC_COMM_TS_TAU_Q_Q20 ((int32_t)(FOC_TS_S * MOTOR_RS_OHM / MOTOR_LQ_H * 1048576.0 + 0.5))
 /* The I/f spin for the flux: twice the start-up's final speed, within
  * 0.15 .. 0.5 of the maximum; the rotor's swing settles for 0.3 s. */
 #define FOC_COMM_SPIN_RPM_D (2.0 * STARTUP_FINAL_SPEED_RPM)
@@ -1043,6 +1047,8 @@ FOC_STATIC_ASSERT(FOC_COMM_RS_Q20 > 0 && FOC_RS_PU < 2000.0 &&
                   FOC_WE_BASE_RAD_S * MOTOR_LQ_H * FOC_I_BASE_A / FOC_V_BASE_V < 2000.0 &&
                   FOC_WE_BASE_RAD_S * MOTOR_LD_H * FOC_I_BASE_A / FOC_V_BASE_V < 2000.0,
                   "commissioning: Rs or the reactance beyond 2000 per-unit (commission.c)");
+FOC_STATIC_ASSERT(FOC_COMM_TS_TAU_D_Q20 < 1048576 && FOC_COMM_TS_TAU_Q_Q20 < 1048576,
+                  "commissioning: L / Rs shorter than a PWM period");
 FOC_STATIC_ASSERT(FOC_COMM_PULSE_DV_D > 0 && FOC_COMM_PULSE_DV_Q > 0 &&
                   FOC_COMM_PULSE_DV_D < 16384 && FOC_COMM_PULSE_DV_Q < 16384,
                   "commissioning: the inductance pulse's voltage out of range");
