@@ -348,6 +348,66 @@ static void cmd_ack(const call_t *k)
     reply_ok(k->o);
 }
 
+static void cmd_commission(const call_t *k)
+{
+    if (k->m->ctrl->state != FOC_STATE_IDLE) {
+        reply_err(k->o, "not idle", foc_state_name(k->m->ctrl->state));
+        return;
+    }
+    foc_cmd_commission(k->m->ctrl);
+    reply_ok(k->o);
+}
+
+/* A parameter of userparms.h x `factor` (a power of ten), for `ident`. */
+#define IDENT_SCALED(x, factor) ((int64_t)((x) * (factor) + 0.5))
+
+/* "key = value" with value / 10^decimals. */
+static void ident_line(out_t *o, const char *key, int64_t value, uint8_t decimals)
+{
+    out_str(o, key);
+    out_str(o, " = ");
+    out_fixed(o, value, decimals, 1u);
+    out_end(o);
+}
+
+/* A result's Q14 ratio times its parameter (x 10^9, < 2^40 for any motor
+ * config.h accepts). */
+static int64_t ident_value(q15_t ratio_q14, int64_t param_nano)
+{
+    return div_round((int64_t)ratio_q14 * param_nano, 16384);
+}
+
+/* Commissioning's results (commission.h) in SI units, as the motor
+ * description tools/tune.py reads: data lines, then "ok"; the rest of the
+ * description from userparms.h (commissioning does not measure it). */
+static void cmd_ident(const call_t *k)
+{
+    const foc_comm_t *r = &k->m->ctrl->comm;
+    out_t *o = k->o;
+    if (r->valid == 0u) {
+        reply_err(o, (r->failed_step != 0u) ? "failed step" : "no results",
+                  (r->failed_step != 0u) ? foc_comm_step_name(r->failed_step) : NULL);
+        return;
+    }
+    out_line(o, "[motor]");
+    out_line(o, "name = commissioned motor");
+    ident_line(o, "pole_pairs", MOTOR_POLE_PAIRS, 0u);
+    out_line(o, "connection = star");
+    out_line(o, "rl_measured = phase");
+    ident_line(o, "rs_ohm", ident_value(r->rs_q14, IDENT_SCALED(MOTOR_RS_OHM, 1e9)), 9u);
+    ident_line(o, "ld_h", ident_value(r->ld_q14, IDENT_SCALED(MOTOR_LD_H, 1e9)), 9u);
+    ident_line(o, "lq_h", ident_value(r->lq_q14, IDENT_SCALED(MOTOR_LQ_H, 1e9)), 9u);
+    ident_line(o, "flux_linkage_wb", ident_value(r->flux_q14, IDENT_SCALED(FOC_FLUX_WB, 1e9)), 9u);
+    ident_line(o, "nominal_speed_rpm", IDENT_SCALED(MOTOR_NOMINAL_SPEED_RPM, 1e3), 3u);
+    ident_line(o, "max_speed_rpm", IDENT_SCALED(MOTOR_MAX_SPEED_RPM, 1e3), 3u);
+    ident_line(o, "rated_current_a_peak", IDENT_SCALED(MOTOR_RATED_CURRENT_A, 1e3), 3u);
+    ident_line(o, "max_current_a_peak", IDENT_SCALED(CURRENT_LIMIT_A, 1e3), 3u);
+    ident_line(o, "inertia_kgm2", IDENT_SCALED(MOTOR_INERTIA_KGM2, 1e12), 12u);
+    ident_line(o, "viscous_nm_per_krpm", IDENT_SCALED(MOTOR_VISCOUS_NM_PER_KRPM, 1e12), 12u);
+    ident_line(o, "coulomb_nm", IDENT_SCALED(MOTOR_COULOMB_NM, 1e9), 9u);
+    reply_ok(o);
+}
+
 static void cmd_speed(const call_t *k)
 {
     int32_t milli = 0;
@@ -697,6 +757,8 @@ static const cmd_t commands[] = {
     { "dac", 0, 2, cmd_dac, "dac [<var1> <var2>]", "debug outputs' variables" },
     { "vars", 0, 0, cmd_vars, "vars", "variables: name unit full-scale s|u" },
     { "scope", 0, 5, cmd_scope, "scope [state]", "capture configuration and state" },
+    { "commission", 0, 0, cmd_commission, "commission", "measure the motor (from IDLE)" },
+    { "ident", 0, 0, cmd_ident, "ident", "commissioning's results, as a motor file" },
 };
 
 #define N_COMMANDS (sizeof commands / sizeof commands[0])

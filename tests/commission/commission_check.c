@@ -4,7 +4,7 @@
  * and the motor model of tools/focsim/sim.c.
  *
  *   commission_<motor> [--rs X] [--ld X] [--lq X] [--flux X] [--j X]
- *                      [--seed N] [--table]
+ *                      [--seed N] [--table] [--lock --expect-fail STEP]
  *
  * The plant is the motor of the userparms.h the core was built with, each
  * --<param> X scaling its value (the +-50 % mismatch of issue 12), with
@@ -15,6 +15,9 @@
  * identified.  Tolerances (issue 12): Rs and flux +-3 %, Ld and Lq +-5 %.
  * Prints one line per quantity (or, --table, one Markdown row); exit 0
  * when commissioning ended in IDLE with every value in its tolerance.
+ * --lock holds the rotor (the flux's spin cannot turn it); --expect-fail
+ * STEP: exit 0 only if commissioning ended in FAULT COMMISSION_FAILED
+ * naming that step, with no result marked valid.
  */
 #include <math.h>
 #include <stdio.h>
@@ -36,13 +39,16 @@
 
 typedef struct {
     double rs, ld, lq, flux, j;
+    unsigned long seed;
+    int table, lock;
+    const char *expect_fail; /* a step name, or NULL */
 } scales_t;
 
-static int parse_args(int argc, char **argv, scales_t *k, unsigned long *seed, int *table)
+static int parse_args(int argc, char **argv, scales_t *k)
 {
     for (int i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--table") == 0) {
-            *table = 1;
+        if (strcmp(argv[i], "--table") == 0 || strcmp(argv[i], "--lock") == 0) {
+            *(argv[i][2] == 't' ? &k->table : &k->lock) = 1;
             continue;
         }
         if (i + 1 >= argc) {
@@ -51,7 +57,11 @@ static int parse_args(int argc, char **argv, scales_t *k, unsigned long *seed, i
         const double v = atof(argv[i + 1]);
         const char *o = argv[i++];
         if (strcmp(o, "--seed") == 0) {
-            *seed = strtoul(argv[i], NULL, 10);
+            k->seed = strtoul(argv[i], NULL, 10);
+            continue;
+        }
+        if (strcmp(o, "--expect-fail") == 0) {
+            k->expect_fail = argv[i];
             continue;
         }
         if (!(v > 0.0)) {
@@ -89,20 +99,21 @@ static int check(const char *what, double id, double truth, double tol, int tabl
 
 int main(int argc, char **argv)
 {
-    scales_t k = { 1.0, 1.0, 1.0, 1.0, 1.0 };
-    unsigned long seed = 1;
-    int table = 0;
-    if (parse_args(argc, argv, &k, &seed, &table) != 0) {
-        fprintf(stderr, "usage: %s [--rs X] [--ld X] [--lq X] [--flux X] [--j X] [--seed N] [--table]\n",
+    scales_t k = { 1.0, 1.0, 1.0, 1.0, 1.0, 1, 0, 0, NULL };
+    if (parse_args(argc, argv, &k) != 0) {
+        fprintf(stderr,
+                "usage: %s [--rs X] [--ld X] [--lq X] [--flux X] [--j X] [--seed N] [--table]\n"
+                "          [--lock --expect-fail STEP]\n",
                 argv[0]);
         return 2;
     }
+    const int table = k.table;
     char text[1024];
     snprintf(text, sizeof text,
              "0 plant noise 2\n0 plant deadtime %.9g\n0 plant rs %.9g\n0 plant ld %.9g\n"
-             "0 plant lq %.9g\n0 plant flux %.9g\n0 plant j %.9g\n0.01 commission\n%.1f end\n",
+             "0 plant lq %.9g\n0 plant flux %.9g\n0 plant j %.9g\n%s0.01 commission\n%.1f end\n",
              (double)PWM_DEADTIME_S, MOTOR_RS_OHM * k.rs, MOTOR_LD_H * k.ld, MOTOR_LQ_H * k.lq,
-             FOC_FLUX_WB * k.flux, MOTOR_INERTIA_KGM2 * k.j, RUN_LIMIT_S);
+             FOC_FLUX_WB * k.flux, MOTOR_INERTIA_KGM2 * k.j, k.lock ? "0 lock\n" : "", RUN_LIMIT_S);
     scn_t scn;
     char err[256];
     if (scn_parse_text(text, "commission", &scn, err, sizeof err) != 0) {
@@ -112,7 +123,7 @@ int main(int argc, char **argv)
     static sim_t sim;
     sim_options_t o;
     sim_default_options(&o);
-    o.seed = (uint32_t)seed;
+    o.seed = (uint32_t)k.seed;
     if (sim_init(&sim, &o, &scn, err, sizeof err) != 0) {
         fprintf(stderr, "%s\n", err);
         return 2;
@@ -136,6 +147,14 @@ int main(int argc, char **argv)
         printf("motor=%s end_state=%s fault=%s step=%s time_s=%.3f peak_a=%.3f limit_a=%.3f\n",
                COMMISSION_MOTOR, foc_state_name(sim.ctrl.state), foc_fault_name(sim.ctrl.faults.first),
                r.failed_step, sim.t_s, sim.peak_current_a, (double)CURRENT_LIMIT_A);
+    }
+    if (k.expect_fail != NULL) {
+        const int failed = sim.ctrl.state == FOC_STATE_FAULT && !r.valid &&
+                           sim.ctrl.faults.first == (uint16_t)FOC_FAULT_COMMISSION_FAILED &&
+                           strcmp(r.failed_step, k.expect_fail) == 0;
+        printf("expected COMMISSION_FAILED at %s: %s\n", k.expect_fail, failed ? "PASS" : "FAIL");
+        scn_free(&scn);
+        return failed ? 0 : 1;
     }
     int ok = r.valid && sim.ctrl.state == FOC_STATE_IDLE;
     ok &= check("rs_ohm", r.rs_ohm, p->rs_ohm, TOL_RS, table);
