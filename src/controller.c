@@ -192,7 +192,7 @@ static q15_t forced_vq(q15_t speed, q15_t id)
 
 /* 1 when the sampled current is beyond its trip level (each square
  * <= 2^30: the sum fits 32 bits unsigned). */
-static inline uint8_t current_lost(foc_ab_t i)
+static FOC_ALWAYS_INLINE uint8_t current_lost(foc_ab_t i)
 {
     return (uint8_t)((uint32_t)((int32_t)i.alpha * i.alpha) + (uint32_t)((int32_t)i.beta * i.beta) >
                      FOC_CURRENT_TRIP_SQ_Q30);
@@ -204,7 +204,7 @@ static inline uint8_t current_lost(foc_ab_t i)
  * duties are loaded mid-way between two samples (SAMPLE_DELAY_PERIODS <
  * 1.5), plus the dead-time error for the current that flowed (the mean of
  * the samples `i_last` and `i_now`). */
-static inline foc_ab_t applied_voltage(const foc_ctrl_t *c, foc_ab_t v_prev, foc_ab_t v_last,
+static FOC_ALWAYS_INLINE foc_ab_t applied_voltage(const foc_ctrl_t *c, foc_ab_t v_prev, foc_ab_t v_last,
                                        foc_ab_t i_last, foc_ab_t i_now)
 {
     foc_ab_t v = v_prev;
@@ -224,7 +224,7 @@ static inline foc_ab_t applied_voltage(const foc_ctrl_t *c, foc_ab_t v_prev, foc
 
 /* c->v_dq to the bridge on the angle sc_v: inverse Park, the dead-time
  * correction of the reference's current, bus compensation, SVM. */
-static inline void apply_voltage(foc_ctrl_t *c, foc_sincos_t sc_v)
+static FOC_ALWAYS_INLINE void apply_voltage(foc_ctrl_t *c, foc_sincos_t sc_v)
 {
     c->v_ab = foc_ipark_q15(c->v_dq, sc_v);
     if (c->opt.deadtime_comp != 0u) {

@@ -27,6 +27,15 @@ typedef int32_t q31_t;
 #define FOC_COLD
 #endif
 
+/* A small step of the per-period path that another caller shares: inlined
+ * everywhere, so the second caller never turns it into a call (with its
+ * saved registers) on the per-period path. */
+#if defined(__GNUC__)
+#define FOC_ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define FOC_ALWAYS_INLINE inline
+#endif
+
 #define Q15_MAX ((q15_t)32767)
 #define Q15_MIN ((q15_t)-32768)
 

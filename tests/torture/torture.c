@@ -12,7 +12,8 @@
  *   torture_<motor> --scenario FILE.scn [--estimator E] [--trace]
  *        (--trace: a CSV row every millisecond; --trace-every N: every N
  *        PWM periods)
- *        a written scenario (tests/torture/regress); `#!` lines in it set the
+ *        a written scenario (tests/torture/regress; with `commission`, the
+ *        identified values as focsim's id_* keys); `#!` lines in it set the
  *        run's options and expectations:
  *          #! estimator pll|luenberger|flux   (several: one run each)
  *          #! stop_mode ramp|coast|short      #! coulomb <Nm>
@@ -812,6 +813,7 @@ static int run_spec(const spec_t *sp, inject_t inj, int trace, result_t *res)
         }
         k++;
     }
+    sim_commission_print(&sim, stdout); /* (a scenario with `commission`) */
     res->final_state = sim.ctrl.state;
     res->fault = sim.ctrl.faults.first;
     res->t_end = scn.end_s;
