@@ -428,7 +428,8 @@ static void cmd_status(const call_t *k)
 {
     const foc_ctrl_t *c = k->m->ctrl;
     out_t *o = k->o;
-    const uint8_t forced = (uint8_t)(c->state == FOC_STATE_ALIGN || c->state == FOC_STATE_OPENLOOP);
+    const uint8_t forced = (uint8_t)(c->state == FOC_STATE_ALIGN || c->state == FOC_STATE_OPENLOOP ||
+                                     c->state == FOC_STATE_COMMISSION);
     out_str(o, "ok");
     out_key(o, "state");
     out_str(o, foc_state_name(c->state));

@@ -19,7 +19,8 @@ import math
 import sys
 
 # foc_state_name() order (include/foc/controller.h, foc_state_t).
-STATE_NAMES = ["IDLE", "CALIB", "ALIGN", "OPENLOOP", "RUN", "STOP", "BRAKE", "FAULT", "CATCH"]
+STATE_NAMES = ["IDLE", "CALIB", "ALIGN", "OPENLOOP", "RUN", "STOP", "BRAKE", "FAULT", "CATCH",
+               "COMMISSION"]
 
 
 class DumpError(Exception):

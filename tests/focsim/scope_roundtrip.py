@@ -41,7 +41,8 @@ CSV_COLUMN = {  # channel -> (CSV column, row offset: 0 same period, -1 previous
     "state": ("state", -1),
 }
 # foc_state_name() order (foc_state_t)
-STATE_NAMES = ["IDLE", "CALIB", "ALIGN", "OPENLOOP", "RUN", "STOP", "BRAKE", "FAULT", "CATCH"]
+STATE_NAMES = ["IDLE", "CALIB", "ALIGN", "OPENLOOP", "RUN", "STOP", "BRAKE", "FAULT", "CATCH",
+               "COMMISSION"]
 
 failures = []
 

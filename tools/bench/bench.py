@@ -63,8 +63,9 @@ except ImportError as e:  # pragma: no cover
     sys.exit(2)
 
 P_REFILL = 2
-STATE_NAMES = ["IDLE", "CALIB", "ALIGN", "OPENLOOP", "RUN", "STOP", "BRAKE", "FAULT", "CATCH"]
-LOOP_STATES = {2, 3, 4, 5, 6, 8}  # ALIGN OPENLOOP RUN STOP BRAKE CATCH: current loop runs
+STATE_NAMES = ["IDLE", "CALIB", "ALIGN", "OPENLOOP", "RUN", "STOP", "BRAKE", "FAULT", "CATCH",
+               "COMMISSION"]
+LOOP_STATES = {2, 3, 4, 5, 6, 8, 9}  # ALIGN OPENLOOP RUN STOP BRAKE CATCH COMMISSION: current loop runs
 EST_NAMES = ["sensored", "pll", "luenberger", "flux"]
 FW_NAMES = ["off", "table", "voltage"]
 

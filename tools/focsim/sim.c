@@ -244,7 +244,8 @@ static void fill_row(sim_t *s, const pmsm_sample_t *m, sim_row_t *r)
     r->state = foc_state_name(c->state);
     r->fault = foc_fault_name(c->faults.first);
     /* the reference the controller imposes: the forced speed in start-up */
-    const int forced = c->state == FOC_STATE_ALIGN || c->state == FOC_STATE_OPENLOOP;
+    const int forced = c->state == FOC_STATE_ALIGN || c->state == FOC_STATE_OPENLOOP ||
+                       c->state == FOC_STATE_COMMISSION;
     r->speed_ref_rpm = sim_rpm_from_q15(forced ? c->startup.speed : c->speed_ctrl.ramped);
     r->speed_rpm = m->speed_rpm;
     r->speed_est_rpm = sim_rpm_from_q15(c->est.est_speed);

@@ -33,7 +33,8 @@ import machine  # noqa: E402
 from periph import TICK_HZ, IRQ_ADC1_2  # noqa: E402
 
 EXC_ADC = 16 + IRQ_ADC1_2
-STATES = ["IDLE", "CALIB", "ALIGN", "OPENLOOP", "RUN", "STOP", "BRAKE", "FAULT", "CATCH"]
+STATES = ["IDLE", "CALIB", "ALIGN", "OPENLOOP", "RUN", "STOP", "BRAKE", "FAULT", "CATCH",
+               "COMMISSION"]
 CSV_HEADER = ("t_s,state,fault,speed_ref_rpm,speed_rpm,speed_est_rpm,theta_e_deg,"
               "theta_est_deg,id_a,iq_a,id_ref_a,iq_ref_a,vd_v,vq_v,vdc_v,torque_nm,"
               "ia_a,ib_a,ic_a")
