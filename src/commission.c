@@ -6,6 +6,14 @@
 #define RATIO_MIN_Q14 4096
 #define RATIO_MAX_Q14 32767
 
+void foc_comm_init(foc_comm_t *m)
+{
+    foc_comm_begin(m);
+    m->step = (uint8_t)FOC_COMM_STEP_NONE;
+    m->fast_mode = (uint8_t)FOC_COMM_MODE_OFF;
+    m->count = 0;
+}
+
 void foc_comm_begin(foc_comm_t *m)
 {
     m->step = (uint8_t)FOC_COMM_STEP_OFFSETS;

@@ -153,10 +153,7 @@ void foc_init(foc_ctrl_t *c)
     foc_bus_init(&c->bus, FOC_VDC_NOMINAL);
     foc_protection_init(&c->protection);
     foc_sup_init(&c->sup);
-    foc_comm_begin(&c->comm);
-    c->comm.step = (uint8_t)FOC_COMM_STEP_NONE;
-    c->comm.fast_mode = (uint8_t)FOC_COMM_MODE_OFF;
-    c->comm.count = 0;
+    foc_comm_init(&c->comm);
     foc_speed_stats_reset(&c->speed_stats);
     foc_startup_begin(&c->startup, 1);
     c->est.kind = (uint8_t)FOC_ESTIMATOR;

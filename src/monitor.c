@@ -358,28 +358,42 @@ static void cmd_commission(const call_t *k)
     reply_ok(k->o);
 }
 
-/* A parameter of userparms.h x `factor` (a power of ten), for `ident`. */
-#define IDENT_SCALED(x, factor) ((int64_t)((x) * (factor) + 0.5))
+/* The lines of `ident`: a parameter of userparms.h x 10^decimals, and,
+ * for a measured one, which result's Q14 ratio scales it. */
+#define IDENT_NONE 0u
+#define IDENT_RS 1u
+#define IDENT_LD 2u
+#define IDENT_LQ 3u
+#define IDENT_FLUX 4u
+typedef struct {
+    const char *key;
+    int64_t value;     /* the parameter x 10^decimals */
+    uint8_t decimals;
+    uint8_t measured;  /* IDENT_* */
+} ident_row_t;
 
-/* "key = value" with value / 10^decimals. */
-static void ident_line(out_t *o, const char *key, int64_t value, uint8_t decimals)
-{
-    out_str(o, key);
-    out_str(o, " = ");
-    out_fixed(o, value, decimals, 1u);
-    out_end(o);
-}
+#define IDENT_ROW(key, x, decimals, factor, measured) { key, (int64_t)((x) * (factor) + 0.5), decimals, measured }
 
-/* A result's Q14 ratio times its parameter (x 10^9, < 2^40 for any motor
- * config.h accepts). */
-static int64_t ident_value(q15_t ratio_q14, int64_t param_nano)
-{
-    return div_round((int64_t)ratio_q14 * param_nano, 16384);
-}
+static const ident_row_t ident_rows[] = {
+    IDENT_ROW("pole_pairs", MOTOR_POLE_PAIRS, 0u, 1.0, IDENT_NONE),
+    IDENT_ROW("rs_ohm", MOTOR_RS_OHM, 9u, 1e9, IDENT_RS),
+    IDENT_ROW("ld_h", MOTOR_LD_H, 9u, 1e9, IDENT_LD),
+    IDENT_ROW("lq_h", MOTOR_LQ_H, 9u, 1e9, IDENT_LQ),
+    IDENT_ROW("flux_linkage_wb", FOC_FLUX_WB, 9u, 1e9, IDENT_FLUX),
+    IDENT_ROW("nominal_speed_rpm", MOTOR_NOMINAL_SPEED_RPM, 3u, 1e3, IDENT_NONE),
+    IDENT_ROW("max_speed_rpm", MOTOR_MAX_SPEED_RPM, 3u, 1e3, IDENT_NONE),
+    IDENT_ROW("rated_current_a_peak", MOTOR_RATED_CURRENT_A, 3u, 1e3, IDENT_NONE),
+    IDENT_ROW("max_current_a_peak", CURRENT_LIMIT_A, 3u, 1e3, IDENT_NONE),
+    IDENT_ROW("inertia_kgm2", MOTOR_INERTIA_KGM2, 12u, 1e12, IDENT_NONE),
+    IDENT_ROW("viscous_nm_per_krpm", MOTOR_VISCOUS_NM_PER_KRPM, 12u, 1e12, IDENT_NONE),
+    IDENT_ROW("coulomb_nm", MOTOR_COULOMB_NM, 9u, 1e9, IDENT_NONE),
+};
 
 /* Commissioning's results (commission.h) in SI units, as the motor
  * description tools/tune.py reads: data lines, then "ok"; the rest of the
- * description from userparms.h (commissioning does not measure it). */
+ * description from userparms.h (commissioning does not measure it).  A
+ * result is its Q14 ratio times the parameter (x 10^9: < 2^40 for any
+ * motor config.h accepts, the product < 2^55). */
 static void cmd_ident(const call_t *k)
 {
     const foc_comm_t *r = &k->m->ctrl->comm;
@@ -389,22 +403,15 @@ static void cmd_ident(const call_t *k)
                   (r->failed_step != 0u) ? foc_comm_step_name(r->failed_step) : NULL);
         return;
     }
-    out_line(o, "[motor]");
-    out_line(o, "name = commissioned motor");
-    ident_line(o, "pole_pairs", MOTOR_POLE_PAIRS, 0u);
-    out_line(o, "connection = star");
-    out_line(o, "rl_measured = phase");
-    ident_line(o, "rs_ohm", ident_value(r->rs_q14, IDENT_SCALED(MOTOR_RS_OHM, 1e9)), 9u);
-    ident_line(o, "ld_h", ident_value(r->ld_q14, IDENT_SCALED(MOTOR_LD_H, 1e9)), 9u);
-    ident_line(o, "lq_h", ident_value(r->lq_q14, IDENT_SCALED(MOTOR_LQ_H, 1e9)), 9u);
-    ident_line(o, "flux_linkage_wb", ident_value(r->flux_q14, IDENT_SCALED(FOC_FLUX_WB, 1e9)), 9u);
-    ident_line(o, "nominal_speed_rpm", IDENT_SCALED(MOTOR_NOMINAL_SPEED_RPM, 1e3), 3u);
-    ident_line(o, "max_speed_rpm", IDENT_SCALED(MOTOR_MAX_SPEED_RPM, 1e3), 3u);
-    ident_line(o, "rated_current_a_peak", IDENT_SCALED(MOTOR_RATED_CURRENT_A, 1e3), 3u);
-    ident_line(o, "max_current_a_peak", IDENT_SCALED(CURRENT_LIMIT_A, 1e3), 3u);
-    ident_line(o, "inertia_kgm2", IDENT_SCALED(MOTOR_INERTIA_KGM2, 1e12), 12u);
-    ident_line(o, "viscous_nm_per_krpm", IDENT_SCALED(MOTOR_VISCOUS_NM_PER_KRPM, 1e12), 12u);
-    ident_line(o, "coulomb_nm", IDENT_SCALED(MOTOR_COULOMB_NM, 1e9), 9u);
+    out_line(o, "[motor]\r\nname = commissioned motor\r\nconnection = star\r\nrl_measured = phase");
+    const q15_t ratio[] = { 16384, r->rs_q14, r->ld_q14, r->lq_q14, r->flux_q14 };
+    for (unsigned i = 0; i < sizeof ident_rows / sizeof ident_rows[0]; i++) {
+        const ident_row_t *row = &ident_rows[i];
+        out_str(o, row->key);
+        out_str(o, " = ");
+        out_fixed(o, div_round((int64_t)ratio[row->measured] * row->value, 16384), row->decimals, 1u);
+        out_end(o);
+    }
     reply_ok(o);
 }
 

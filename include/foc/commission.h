@@ -100,6 +100,9 @@ typedef struct {
     foc_abc_t offset;    /* and these they are (Q15) */
 } foc_comm_in_t;
 
+/* At rest: no commissioning has run, no results (foc_init). */
+void foc_comm_init(foc_comm_t *m);
+
 /* Starts the sequence (OFFSETS, bridge off); the results are forgotten. */
 void foc_comm_begin(foc_comm_t *m);
 
