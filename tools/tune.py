@@ -37,11 +37,30 @@ Formulas (SI units; p pole pairs, psi flux linkage, fs PWM frequency):
                        bandwidth an inductance error of 50 % leaves stable:
                        speed_bw_for_inductance_error)
   Luenberger observer  error poles s^2 + (Rs/L - K1) s + K2/L: critically
-                       damped at wo (default 6661.5 rad/s: ST's K1, K2 on the
-                       Hurst075): K2 = L wo^2, K1 = Rs/L - 2 wo; F1, F2 the
-                       template's, or the nearest power of two that fits
-  PLL (AN1292)         filters and Luenberger PLL: the template's (ST's
-                       formula of maximum speed and fs)
+                       damped at wo: K2 = L wo^2, K1 = Rs/L - 2 wo, with
+                       wo where the steady angle error that the EMF
+                       model's Euler rotation leaves is zero at n_top (about
+                       0.32 fs: observer_bw, observer_angle_error_deg);
+                       reported, and at most 1 deg when given by hand;
+                       F1, F2 the template's, or the nearest power of two
+                       that fits
+  Luenberger PLL       ST's Kp = 532 fe/fs, Ki = 1506742 fe/fs^2 (fe the
+                       maximum electrical rpm; template expressions): with
+                       the phase detector normalised, natural frequency
+                       sqrt(72.2 fe) rad/s, damping 0.006 sqrt(fe)
+  PLL (AN1292)         the angle loop's gain is |w| itself (eq. 2), so its
+                       bandwidth follows the speed; back-EMF filter 0.2 ms
+                       (AN1292), shorter where the top speed would leave
+                       the loop under 30 deg of phase margin
+                       (pll_emf_filter_s: 3.46 / w_e,top); speed filter
+                       the template's 1 ms
+  flux estimator       the template's: correction FLUX_CORR_PER_SPEED x
+                       |w_e| (+ FLUX_CORR_MIN_RAD_S), flux learning
+                       FLUX_MAG_PER_SPEED x |w_e|, both following the speed
+                       by themselves; speed observer poles at
+                       FLUX_SPEED_OBS_BW_RAD_S (800 rad/s, above every
+                       speed loop the tool derives: 600 at most); formats
+                       checked
   low speed, start-up  n_low: speed whose phase back-EMF is 15 % of the
                        voltage base Vdc/sqrt(3) = PLL_LOW_SPEED_RPM =
                        STARTUP_FINAL_SPEED_RPM; minimum 1/2, sensored
@@ -85,7 +104,9 @@ SPEED_LAG_PHASE = 0.3               # rad the fake speed of an L error may cost 
 SPEED_BW_MIN = 150.0                # rad/s: slower, the follow checks and the FW lose the loop
 CURRENT_DIST_RATIO = 0.5            # config.h's default: the current PIs' disturbance pole / wc
 DEFAULT_FW_BW = 160.0               # rad/s
-DEFAULT_OBSERVER_BW = 6661.5        # rad/s: ST's K1, K2 on the Hurst075
+PLL_EMF_FILTER_S = 0.2e-3           # AN1292's back-EMF filter, unless the top speed needs less:
+PLL_PHASE_MARGIN_DEG = 30.0         # the PLL estimator's angle loop at the top speed, at least
+OBSERVER_ERR_MAX_DEG = 1.0          # the Luenberger observer's steady angle error at n_top, at most
 FW_PI_TIME_S = 0.625e-3             # Kp / Ki of the field-weakening PI
 SAMPLES_PER_TURN_MIN = 20.0         # PWM periods per electrical turn at n_top
 EMF_LOW_FRACTION = 0.15             # back-EMF / voltage base at n_low
@@ -173,6 +194,86 @@ HINTS = {
     "kv": "the field is kv_rpm_per_v",
     "kt": "give kt_nm_per_a_rms or kt_nm_per_a_peak",
 }
+
+
+def observer_angle_error_deg(rs, l, fs, k1, k2, we):
+    """The Luenberger observer's steady angle error (deg) at the electrical
+    speed we (rad/s): the angle of its corrected EMF estimate (what its PLL
+    locks to) against the EMF of the period it estimates.
+
+    The observer turns its EMF estimate by h = w Ts each period with ST's
+    forward Euler step (1 + j h), ahead in amplitude by h^2/2 and behind in
+    phase by h^3/3 per period; its innovation absorbs that with a steady
+    error.  With every quantity a phasor of z = exp(j h), the turned
+    estimate is off by the fraction
+        eps = (r - z)(z - g p) / ((z - r)(z - g p) + r q z),   r = 1 + j h,
+    g = exp(-Rs Ts/L), p = 1 + K1 Ts, q = K2 Ts (1 - g)/Rs, and the
+    corrected one (before the turn) by (1 + eps) z / r: the angle
+    arg(1 + eps) + h - atan(h), to the lowest order
+    h^3 ((1/2 - 5 (1 - g p)/6) / q + 1/3).  Exact for the firmware's
+    discrete equations (the test simulates them)."""
+    ts = 1.0 / fs
+    g = math.exp(-rs * ts / l)
+    gp = g * (1.0 + k1 * ts)
+    q = k2 * ts * (1.0 - g) / rs
+    h = we * ts
+    z = complex(math.cos(h), math.sin(h))
+    r = complex(1.0, h)
+    eps = (r - z) * (z - gp) / ((z - r) * (z - gp) + r * q * z)
+    return math.degrees(math.atan2(eps.imag, 1.0 + eps.real) + h - math.atan(h))
+
+
+def observer_bw(rs, l, fs, we_top):
+    """The Luenberger observer's bandwidth wo (rad/s), critically damped
+    (K1 = Rs/L - 2 wo, K2 = L wo^2), from the winding, the PWM rate and the
+    electrical speed at the top speed: where observer_angle_error_deg is
+    zero at we_top, found by bisection over wo Ts in [0.2, 0.45] (the error
+    falls through zero there: 1.8 deg at 0.28 fs, -1.0 at 0.36 fs on the
+    drone motor at 12000 rpm); about 0.32 fs on a motor whose electrical
+    time constant is long against Ts, up to 0.35 fs where Rs Ts/L is 0.07
+    (the Hurst075 at 20 kHz).  Below that point the error grows as
+    h^3 / (wo Ts)^2: ST's fixed 6661.5 rad/s (0.33 fs on the Hurst075 at
+    20 kHz, 0.14 fs at 48 kHz) left 11.2 deg on the drone motor at 8000
+    rpm.  Below the top speed the error left is of order h^5: a tenth of
+    a degree or less."""
+    def err(u):
+        wo = u * fs
+        return observer_angle_error_deg(rs, l, fs, rs / l - 2.0 * wo, l * wo * wo, we_top)
+    lo, hi = 0.2, 0.45
+    if err(lo) * err(hi) > 0.0:
+        return (lo if abs(err(lo)) < abs(err(hi)) else hi) * fs
+    for _ in range(50):
+        mid = 0.5 * (lo + hi)
+        if err(lo) * err(mid) <= 0.0:
+            hi = mid
+        else:
+            lo = mid
+    return 0.5 * (lo + hi) * fs
+
+
+def pll_phase_margin_deg(tau, we):
+    """Phase margin (deg) of the PLL estimator's angle loop at the
+    electrical speed we (rad/s) with the back-EMF filter tau (s).
+
+    Eq. 2 of AN1292 makes the speed (Eqf - sgn(w) Edf) / KFi with
+    Ed = -|E| sin(d): the angle error d feeds back with the gain |w| through
+    the first-order filter, L(s) = |w| / (s (1 + s tau)), so the loop's
+    bandwidth follows the speed by itself and only the filter's lag at the
+    crossover wc (wc sqrt(1 + (wc tau)^2) = we) sets the margin,
+    90 - atan(wc tau)."""
+    x2 = (math.sqrt(1.0 + 4.0 * (we * tau) ** 2) - 1.0) / 2.0   # (wc tau)^2
+    return 90.0 - math.degrees(math.atan(math.sqrt(x2)))
+
+
+def pll_emf_filter_s(we_top):
+    """AN1292's 0.2 ms back-EMF filter, shortened where the electrical
+    speed at the top speed would leave the angle loop less than
+    PLL_PHASE_MARGIN_DEG (wc tau = tan(90 - margin), tau = wc tau sqrt(1 +
+    (wc tau)^2) / we_top: 3.46 / we_top at 30 deg, i.e. from 17300 rad/s
+    on).  Shorter than it needs is noisier: on the drone motor at 8000 rpm,
+    44 us instead of 0.2 ms gave 0.32 deg RMS instead of 0.28."""
+    x = math.tan(math.radians(90.0 - PLL_PHASE_MARGIN_DEG))
+    return min(PLL_EMF_FILTER_S, x * math.sqrt(1.0 + x * x) / we_top)
 
 
 def speed_bw_for_inductance_error(p, psi, j, lq):
@@ -622,10 +723,12 @@ def choose(motor, board, opt):
     put("SPEED_KI_A_PER_RPM_S", kp_speed * wb / 4.0)
 
     # observers
-    wo = opt.observer_bw_rad_s
-    l_avg = (ld + lq) / 2.0
-    put("LUENBERGER_K1_PER_S", rs / l_avg - 2.0 * wo)
-    put("LUENBERGER_K2_V_PER_AS", l_avg * wo * wo)
+    put("PLL_EMF_FILTER_TIME_S", pll_emf_filter_s(fe_top * 2.0 * math.pi))
+    # the observer's winding model is Lq (config.h FOC_LUEN_LS_H: the
+    # extended-EMF form), so its poles are placed with Lq
+    wo = opt.observer_bw_rad_s or observer_bw(rs, lq, fs, fe_top * 2.0 * math.pi)
+    put("LUENBERGER_K1_PER_S", rs / lq - 2.0 * wo)
+    put("LUENBERGER_K2_V_PER_AS", lq * wo * wo)
 
     # low speed, start-up
     n_low = sig(EMF_LOW_FRACTION * v_base / psi / p / RPM, 2)
@@ -761,6 +864,10 @@ def derive(e):
     d["C6"] = 65536.0 * web * ts
     d["det"] = (1.0 + k1 * ts) * (1.0 - g)
     d["k2tb"] = k2 * ts * b
+    n_top = max(e["MOTOR_MAX_SPEED_RPM"], 2.0 * e["MOTOR_NOMINAL_SPEED_RPM"])
+    d["pll_margin_top_deg"] = pll_phase_margin_deg(e["PLL_EMF_FILTER_TIME_S"], n_top * p * RPM)
+    d["luen_err_top_deg"] = observer_angle_error_deg(rs, ls, e["PWM_FREQUENCY_HZ"], k1, k2,
+                                                     n_top * p * RPM)
     unit = 32768.0 / d["dtheta"]
     d["lpll_kp"] = e.get("LUENBERGER_PLL_KP", 1.0) / 16384.0 * unit
     d["lpll_ki"] = e.get("LUENBERGER_PLL_KI", 1e-3) / 65536.0 * unit
@@ -907,6 +1014,16 @@ def checks(e, d):
         (-1.0 < d["det"] < 1.0 and 0.0 < d["k2tb"] < 2.0 * (1.0 + d["det"]),
          "the Luenberger observer's error dynamics are unstable at pwm_frequency_hz "
          "(lower --observer-bw-rad-s)"),
+        (d["pll_margin_top_deg"] >= PLL_PHASE_MARGIN_DEG - 0.5,
+         "PLL_EMF_FILTER_TIME_S (%.3g s) leaves the PLL estimator's angle loop %.0f deg of "
+         "phase margin at the top speed; at least %g: shorten it" % (
+             e["PLL_EMF_FILTER_TIME_S"], d["pll_margin_top_deg"], PLL_PHASE_MARGIN_DEG)),
+        (abs(d["luen_err_top_deg"]) <= OBSERVER_ERR_MAX_DEG,
+         "the Luenberger observer's EMF model (its Euler rotation) leaves %.2f deg of angle "
+         "error at the top speed with K1 = %.4g 1/s, K2 = %.4g V/(A s); at most %g deg: "
+         "leave --observer-bw-rad-s at its default, or raise pwm_frequency_hz" % (
+             d["luen_err_top_deg"], e["LUENBERGER_K1_PER_S"], e["LUENBERGER_K2_V_PER_AS"],
+             OBSERVER_ERR_MAX_DEG)),
         (0.0 < d["lpll_kp"] < 32768.0 and 1.0 / 32768.0 < d["lpll_ki"] < 1.0,
          "LUENBERGER_PLL_KP / LUENBERGER_PLL_KI out of range for this motor and PWM rate"),
         # flux estimator
@@ -1111,9 +1228,12 @@ def report(motor, board, e, d, info, f):
             info["fc"], e["CURRENT_KP_V_PER_A"], e["CURRENT_KI_V_PER_AS"])),
         ("speed loop", "%.0f rad/s: Kp %.4g A/rpm, Ki %.4g A/(rpm s)" % (
             info["wb"], e["SPEED_KP_A_PER_RPM"], e["SPEED_KI_A_PER_RPM_S"])),
-        ("Luenberger observer", "K1 %.4g 1/s, K2 %.4g V/(A s); discrete poles %.3f, %.3f; "
-         "F1 %d, F2 %d" % (e["LUENBERGER_K1_PER_S"], e["LUENBERGER_K2_V_PER_AS"], z[-1], z[0],
-                           e["LUENBERGER_F1"], e["LUENBERGER_F2"])),
+        ("PLL estimator", "back-EMF filter %.3g ms: angle loop phase margin %.0f deg at %.0f "
+         "rpm" % (e["PLL_EMF_FILTER_TIME_S"] * 1e3, d["pll_margin_top_deg"], info["n_top"])),
+        ("Luenberger observer", "%.0f rad/s: K1 %.4g 1/s, K2 %.4g V/(A s); discrete poles "
+         "%.3f, %.3f; F1 %d, F2 %d; angle error %.2f deg at %.0f rpm" % (
+             info["wo"], e["LUENBERGER_K1_PER_S"], e["LUENBERGER_K2_V_PER_AS"], z[-1], z[0],
+             e["LUENBERGER_F1"], e["LUENBERGER_F2"], d["luen_err_top_deg"], info["n_top"])),
         ("field weakening", "Id max %.3g A, voltage PI Kp %.3g A/V, Ki %.3g A/(V s)%s" % (
             idm, e["FW_VOLTAGE_KP_A_PER_V"], e["FW_VOLTAGE_KI_A_PER_VS"], info["fw_note"])),
         ("start-up", "align %.3g A for %.3g s, ramp to %.0f rpm in %.3g s, time-out %.3g s" % (
@@ -1155,8 +1275,10 @@ def main(argv=None):
     ap.add_argument("--speed-bw-rad-s", type=float, default=None,
                     help="speed-loop bandwidth (default %g rad/s, or less where the motor's "
                     "inductance error would destabilise it)" % DEFAULT_SPEED_BW)
-    ap.add_argument("--observer-bw-rad-s", type=float, default=DEFAULT_OBSERVER_BW,
-                    help="Luenberger observer error poles (critically damped)")
+    ap.add_argument("--observer-bw-rad-s", type=float, default=None,
+                    help="Luenberger observer error poles (critically damped); default "
+                    "where the EMF model's Euler rotation leaves no angle error at the top "
+                    "speed, about 0.32 fs")
     ap.add_argument("--fw-bw-rad-s", type=float, default=DEFAULT_FW_BW,
                     help="field-weakening voltage loop at the nominal speed")
     ap.add_argument("--estimator", choices=["pll", "luenberger", "flux"])

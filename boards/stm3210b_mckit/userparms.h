@@ -16,7 +16,7 @@
  *   as T = 14 degC + 195 degC x (V / 3.3 V) (MC_MotorControl_Layer.c). These
  *   are the kit's nominal values: check them against the board in hand.
  * Written by tools/tune.py: current loop 1000 Hz, speed loop 381.972 rad/s,
- *   observer 6661.5 rad/s.
+ *   observer 5326.97 rad/s.
  *
  * The template userparms.h.in is this file for its motor and board (the
  * defaults).  For another motor describe the motor and the board and run
@@ -119,15 +119,18 @@
 #define FLUX_CORR_PER_SPEED         1.5
 #define FLUX_MAG_PER_SPEED          0.075
 #define FLUX_SPEED_OBS_BW_RAD_S     800.0
-/* Luenberger observer + PLL (ST, docs/references.md [ST-FOC]).  K1, K2: the observer's
+/* Luenberger observer + PLL (ST, seed 002).  K1, K2: the observer's
  * current-error gains, in ST's physical units, placed so that the observer
  * error obeys s^2 + (Rs/Ls - K1) s + K2/Ls = 0 with a double pole at the
- * observer bandwidth wo of the header: K2 = Ls wo^2, K1 = Rs/Ls - 2 wo
- * (wo = 6661.5 rad/s gives ST's defaults -12000 and 85200 on the
- * Hurst075, whose error then decays with discrete poles 0.80 and 0.47 at
- * 20 kHz, within about 1 ms; config.h checks that the poles lie inside the
- * unit circle).  F1, F2: the extra resolution of the current and EMF states
- * (powers of two; ST's values, or the nearest that fit the motor).
+ * observer bandwidth wo of the header: K2 = Ls wo^2, K1 = Rs/Ls - 2 wo,
+ * wo where the steady angle error that the EMF model's Euler rotation
+ * leaves is zero at the top speed, about 0.32 x PWM_FREQUENCY_HZ
+ * (tools/tune.py observer_bw; ST's -12000 and 85200, 6661.5 rad/s, are
+ * within 3 % of it on the Hurst075 at 20 kHz, whose error decays with
+ * discrete poles 0.79 and 0.45, within about 1 ms; config.h checks that
+ * the poles lie inside the unit circle).  F1, F2: the extra resolution of
+ * the current and EMF states (powers of two; ST's values, or the nearest
+ * that fit the motor).
  * PLL gains: ST's formulas Kp = 532 fe/fs, Ki = 1506742 fe/fs^2 with fe
  * the maximum electrical speed in electrical rpm, in ST's scaling (speed
  * in 1/65536 turn per period, EMF as Q15 of the EMF at maximum speed,
@@ -136,8 +139,8 @@
  * (1124 rad/s and 0.79 on the Hurst075), which our PLL keeps at all
  * speeds (its input is normalised by the EMF amplitude, see
  * foc/luenberger.h). */
-#define LUENBERGER_K1_PER_S         (-12740.0) /* 1/s, < 0 */
-#define LUENBERGER_K2_V_PER_AS      26630.0    /* V/(A s), > 0 */
+#define LUENBERGER_K1_PER_S         (-10070.0) /* 1/s, < 0 */
+#define LUENBERGER_K2_V_PER_AS      17030.0    /* V/(A s), > 0 */
 #define LUENBERGER_F1               2048
 #define LUENBERGER_F2               8192
 #define LUENBERGER_PLL_KP                                                      \

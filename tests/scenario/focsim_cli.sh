@@ -22,10 +22,27 @@ check "csv header" "head -1 '$dir/short.csv' | grep -qx 't_s,state,fault,speed_r
 rows=$(($(wc -l < "$dir/short.csv") - 1))
 check "decimated rows (16001 periods / 10 -> 1601, got $rows)" "[ $rows -eq 1601 ]"
 check "svg written" "grep -q '<svg' '$dir/short.svg'"
-for key in final_state fault closed_loop_time_s speed_rpm_final; do
+for key in final_state fault closed_loop_time_s speed_rpm_final angle_err_rms_deg; do
     check "summary has $key" "grep -q '^$key=' '$dir/summary.txt'"
 done
 check "reaches RUN" "grep -qx 'final_state=RUN' '$dir/summary.txt'"
+
+# angle_err_rms_deg: the RMS of estimated - true electrical angle over the
+# periods in RUN from --measure-from on, recomputed here from the CSV's
+# true and estimated angles (printed to 0.01 deg)
+"$focsim" --scenario "$dir/short.scn" --csv "$dir/every.csv" --measure-from 0.5 \
+    > "$dir/measured.txt"
+got=$(sed -n 's/^angle_err_rms_deg=//p' "$dir/measured.txt")
+want=$(awk -F, 'NR > 1 && $2 == "RUN" && $1 >= 0.5 {
+    e = $8 - $7; while (e >= 180) e -= 360; while (e < -180) e += 360;
+    s += e * e; n++ } END { if (n) printf "%.4f", sqrt(s / n); else print "none" }' "$dir/every.csv")
+check "angle_err_rms_deg $got = $want from the CSV" \
+    "awk -v g='$got' -v w='$want' 'BEGIN { d = g - w; exit !(w != \"none\" && w > 0 && d < 0.01 && d > -0.01) }'"
+printf '0 speed 800\n0.2 end\n' > "$dir/idle.scn"
+"$focsim" --scenario "$dir/idle.scn" > "$dir/idle.txt"
+check "no period in RUN: angle_err_rms_deg=nan" "grep -qx 'angle_err_rms_deg=nan' '$dir/idle.txt'"
+"$focsim" --measure-from -1 --scenario "$dir/short.scn" > /dev/null 2>&1
+check "--measure-from -1 rejected" "[ $? -ne 0 ]"
 
 printf '0 start\n0.1 speed 1000\n0.2 sped 500\n0.3 end\n' > "$dir/bad.scn"
 "$focsim" --scenario "$dir/bad.scn" > /dev/null 2> "$dir/bad.err"

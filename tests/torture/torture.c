@@ -28,6 +28,14 @@
  *                                             0.3 s within tol of rpm
  *          #! expect bus_below_ov             true bus never above OVERVOLTAGE_V
  *          #! expect running_or_fault         ends in RUN or with a named fault
+ *          #! measure_from <s>                the angle error's RMS counts the
+ *                                             periods in RUN from then on
+ *                                             (default 0: all of RUN)
+ *          #! expect angle_rms <deg>          that RMS (estimated - the
+ *                                             plant's true electrical angle)
+ *                                             at most <deg>
+ *        the result line's angle_err_rms_deg is that RMS (nan: no period
+ *        in RUN after measure_from);
  *        exit status 0 when no invariant is violated, no trip is false and
  *        every expectation holds, 1 otherwise
  *   torture_<motor> --params
@@ -168,6 +176,9 @@ typedef struct {
     int has_expect_speed;
     int expect_bus_below_ov;   /* the true bus never above OVERVOLTAGE_V */
     int expect_running_or_fault;
+    double measure_from_s;     /* the angle error's RMS from this time, s */
+    double expect_angle_rms_deg;
+    int has_expect_angle_rms;
 } spec_t;
 
 static void spec_add(spec_t *sp, const char *fmt, ...)
@@ -777,6 +788,7 @@ typedef struct {
     foc_state_t final_state;
     uint16_t fault;
     double t_end;
+    double angle_err_rms_deg; /* sim_angle_err_rms_deg: in RUN from measure_from_s */
 } result_t;
 
 static int run_spec(const spec_t *sp, inject_t inj, int trace, result_t *res)
@@ -794,6 +806,7 @@ static int run_spec(const spec_t *sp, inject_t inj, int trace, result_t *res)
     opt.stop_mode = sp->stop_mode;
     opt.min_speed_rpm = sp->min_speed_rpm;
     opt.mtpa = sp->mtpa;
+    opt.measure_from_s = sp->measure_from_s;
     if (sim_init(&sim, &opt, &scn, err, sizeof err) != 0) {
         fprintf(stderr, "torture: sim error: %s\n", err);
         scn_free(&scn);
@@ -817,6 +830,7 @@ static int run_spec(const spec_t *sp, inject_t inj, int trace, result_t *res)
     res->final_state = sim.ctrl.state;
     res->fault = sim.ctrl.faults.first;
     res->t_end = scn.end_s;
+    res->angle_err_rms_deg = sim_angle_err_rms_deg(&sim);
     scn_free(&scn);
     return 0;
 }
@@ -841,10 +855,10 @@ static void print_result(const char *label, const spec_t *sp, const result_t *r)
     }
     if (!any) printf("none");
     printf(" peak_ratio=%.3f det_worst_s=%.3f detections=%d end_state=%s fault=%s cause=%s"
-           " t_end=%.2f unjudged_current_s=%.4f\n",
+           " t_end=%.2f unjudged_current_s=%.4f angle_err_rms_deg=%.3f\n",
            r->o.peak_ratio, r->o.det_worst_s, r->o.detections, foc_state_name(r->final_state),
            foc_fault_name(r->fault), r->o.last_cause ? r->o.last_cause : "-", r->t_end,
-           (double)r->o.uncontrollable_periods / PWM_FREQUENCY_HZ);
+           (double)r->o.uncontrollable_periods / PWM_FREQUENCY_HZ, r->angle_err_rms_deg);
     for (int k = 0; k < V_KINDS; k++) {
         if (r->o.count[k]) {
             printf("  %s at %.4f s: %s\n", v_names[k], r->o.first_t[k], r->o.what[k]);
@@ -885,6 +899,8 @@ static int parse_directives(const char *text, spec_t *sp, int *ests, int *nests)
                 sp->min_speed_rpm = atoi(a);
             } else if (strcmp(key, "mtpa") == 0) {
                 sp->mtpa = (strcmp(a, "off") == 0) ? 0 : 1;
+            } else if (strcmp(key, "measure_from") == 0) {
+                sp->measure_from_s = atof(a);
             } else if (strcmp(key, "expect") == 0) {
                 if (strcmp(a, "fault") == 0) {
                     sp->expect_fault = 1;
@@ -894,6 +910,9 @@ static int parse_directives(const char *text, spec_t *sp, int *ests, int *nests)
                     sp->expect_running_or_fault = 1;
                 } else if (strcmp(a, "state") == 0) {
                     snprintf(sp->expect_state, sizeof sp->expect_state, "%s", b);
+                } else if (strcmp(a, "angle_rms") == 0) {
+                    sp->has_expect_angle_rms = 1;
+                    sp->expect_angle_rms_deg = atof(b);
                 } else if (strcmp(a, "speed") == 0) {
                     sp->has_expect_speed = 1;
                     sp->expect_speed_rpm = atof(b);
@@ -944,6 +963,12 @@ static int check_expectations(const spec_t *sp, result_t *r)
     if (sp->expect_running_or_fault && r->final_state != FOC_STATE_RUN && r->fault == 0u) {
         violate(&r->o, V_EXPECT, r->t_end, "expected RUN or a named fault, ended in %s",
                 foc_state_name(r->final_state));
+    }
+    /* NaN (no period measured) fails too */
+    if (sp->has_expect_angle_rms && !(r->angle_err_rms_deg <= sp->expect_angle_rms_deg)) {
+        violate(&r->o, V_EXPECT, r->t_end,
+                "expected the angle error within %.2f deg RMS in RUN from %.3f s, got %.3f deg",
+                sp->expect_angle_rms_deg, sp->measure_from_s, r->angle_err_rms_deg);
     }
     if (sp->has_expect_speed) {
         const double mean = r->o.tail_n ? r->o.tail_sum / (double)r->o.tail_n : 0.0;

@@ -10,6 +10,11 @@
                                               the output differs from the
                                               template only in values and
                                               the header
+    test_tune.py gains <workdir>              the estimator gains follow the
+                                              motor and the PWM rate by the
+                                              documented rules, checked
+                                              against the firmware's
+                                              equations run here
     test_tune.py focsim_summary <workdir> <focsim> <scenario>
                                               focsim built on a generated
                                               file reaches RUN, no fault
@@ -379,6 +384,145 @@ def options(work):
               d["MOTOR_RS_OHM"], d["MOTOR_LQ_H"]))
 
 
+# ----------------------------------------------------------------- gains --
+
+TORTURE = [("drone_12pp_24v", "drone_24v"), ("servo_8pp_48v", "servo_48v"),
+           ("ipm_320v", "hv_320v"), ("fan_highj", "fan_48v")]
+
+
+def number(defs, name):
+    return float(defs[name].strip("()"))
+
+
+def observer_angle_deg(rs, l, fs, k1, k2, we, periods=6000):
+    """The Luenberger observer's equations (foc/luenberger.h, physical units,
+    complex alpha + j beta) against a winding whose EMF turns at `we` and is
+    held over each period: the angle (deg) of the corrected EMF estimate,
+    which the PLL locks to, against the EMF of the period it estimates,
+    after the transient."""
+    ts = 1.0 / fs
+    g = math.exp(-rs * ts / l)
+    b = (1.0 - g) / rs                   # A per V over one period
+    h = we * ts
+    i = i_hat = e_hat = e_corr = 0j
+    e = 1.0 + 0j
+    for k in range(periods):
+        e = complex(math.cos(h * k), math.sin(h * k))   # the period that ends
+        i = g * i - b * e                               # plant, no voltage
+        i_pred = g * i_hat - b * e_hat
+        err = i_pred - i
+        i_hat = i_pred + k1 * ts * err
+        e_corr = e_hat + k2 * ts * err
+        e_hat = e_corr * complex(1.0, h)                # Euler turn, ST's
+    return math.degrees(math.atan2((e_corr / e).imag, (e_corr / e).real))
+
+
+def gains(work):
+    pairs = [(HURST, MCLV), (SHINANO, STKIT), (LOWL, LV40K)] + [
+        (os.path.join(REPO, "motors", m + ".ini"),
+         os.path.join(REPO, "tests", "torture", "boards", b + ".ini")) for m, b in TORTURE]
+    wo_of = {}
+    for motor, board in pairs:
+        name = os.path.basename(motor)
+        d = defines(generate(work, motor, board))
+        if not d:
+            continue
+        rs, fs = number(d, "MOTOR_RS_OHM"), number(d, "PWM_FREQUENCY_HZ")
+        l = number(d, "MOTOR_LQ_H")     # the observer's winding model (extended EMF)
+        k1, k2 = number(d, "LUENBERGER_K1_PER_S"), number(d, "LUENBERGER_K2_V_PER_AS")
+        n_top = max(number(d, "MOTOR_MAX_SPEED_RPM"), 2.0 * number(d, "MOTOR_NOMINAL_SPEED_RPM"))
+        we_top = n_top * number(d, "MOTOR_POLE_PAIRS") * 2.0 * math.pi / 60.0
+        # critically damped at wo (K1 = Rs/L - 2 wo, K2 = L wo^2), wo Ts
+        # within the rule's 0.2 .. 0.45
+        wo = (rs / l - k1) / 2.0
+        wo_of[name] = wo
+        check(abs(k2 / (l * wo * wo) - 1.0) < 2e-3 and 0.2 <= wo / fs <= 0.45,
+              "%s: observer critically damped at wo = %.0f rad/s = %.3f fs" % (name, wo, wo / fs))
+        # the error poles inside the unit circle: x(k+1) = M x(k), det M =
+        # (1 + K1 Ts) g, trace M = det M + 1 - K2 Ts (1 - g)/Rs
+        g = math.exp(-rs / (l * fs))
+        det = (1.0 + k1 / fs) * g
+        tr = det + 1.0 - k2 / fs * (1.0 - g) / rs
+        disc = tr * tr - 4.0 * det
+        mod = max(abs((tr + math.sqrt(disc)) / 2), abs((tr - math.sqrt(disc)) / 2)) \
+            if disc >= 0 else math.sqrt(det)
+        check(mod < 0.9, "%s: observer error poles inside the unit circle (|z| %.3f)" % (
+            name, mod))
+        # its steady angle error, from the firmware's equations run here,
+        # within 0.1 deg at the top speed and at 2/3 and 1/3 of it
+        for frac in (1.0, 2.0 / 3.0, 1.0 / 3.0):
+            err = observer_angle_deg(rs, l, fs, k1, k2, frac * we_top)
+            check(abs(err) <= 0.1, "%s: observer angle error %.3f deg at %.0f rpm" % (
+                name, err, frac * n_top))
+        # the PLL estimator's angle loop |w| / (s (1 + s tau)): phase
+        # margin at the top speed at least 30 deg
+        tau = number(d, "PLL_EMF_FILTER_TIME_S")
+        wc = math.sqrt((math.sqrt(1.0 + 4.0 * (we_top * tau) ** 2) - 1.0) / 2.0) / tau
+        margin = 90.0 - math.degrees(math.atan(wc * tau))
+        check(margin >= 29.5 and tau <= 0.2e-3,
+              "%s: PLL back-EMF filter %.3g ms, phase margin %.0f deg at %.0f rpm" % (
+                  name, tau * 1e3, margin, n_top))
+    # the old fixed bandwidth (ST's 6661.5 rad/s) on the drone at 8000 rpm:
+    # the check above would catch it
+    wo = 6661.5
+    err = observer_angle_deg(0.055, 51e-6, 48000.0, 0.055 / 51e-6 - 2 * wo, 51e-6 * wo * wo,
+                             8000 * 12 * 2 * math.pi / 60)
+    check(err > 3.0, "ST's fixed 6661.5 rad/s on the drone at 8000 rpm: %.1f deg" % err)
+
+    # The bandwidth follows the PWM rate: the Hurst075 on its board at twice
+    # the PWM frequency gets about twice the observer bandwidth; a winding
+    # with a longer time constant (Rs / 4) a lower one.
+    fast = write(work, "mclv_40k.ini", edit(read(MCLV), "pwm_frequency_hz",
+                                            "pwm_frequency_hz = 40000"))
+    d = defines(generate(work, HURST, fast))
+    if d:
+        rs, l = number(d, "MOTOR_RS_OHM"), number(d, "MOTOR_LQ_H")
+        wo40 = (rs / l - number(d, "LUENBERGER_K1_PER_S")) / 2.0
+        ratio = wo40 / wo_of["hurst075.ini"]
+        check(1.8 < ratio < 2.2, "twice the PWM rate: observer %.0f -> %.0f rad/s (x %.2f)" % (
+            wo_of["hurst075.ini"], wo40, ratio))
+    slow = write(work, "hurst_slow.ini", edit(read(HURST), "rs_ohm", "rs_ohm = 1.27"))
+    d = defines(generate(work, slow, MCLV))
+    if d:
+        rs, l = number(d, "MOTOR_RS_OHM"), number(d, "MOTOR_LQ_H")
+        wo4 = (rs / l - number(d, "LUENBERGER_K1_PER_S")) / 2.0
+        check(wo4 < wo_of["hurst075.ini"], "4 x the winding time constant: observer %.0f -> "
+              "%.0f rad/s" % (wo_of["hurst075.ini"], wo4))
+
+    # A faster motor on a faster board: the PLL's back-EMF filter shortens
+    # to keep 30 deg of phase margin at its top speed (18000 rpm x 12 pole
+    # pairs = 22600 rad/s on a 96 kHz board).
+    board96 = write(work, "drone_96k.ini", edit(read(os.path.join(
+        REPO, "tests", "torture", "boards", "drone_24v.ini")), "pwm_frequency_hz",
+        "pwm_frequency_hz = 96000"))
+    fast_motor = write(work, "drone_fast.ini", edit(edit(read(os.path.join(
+        REPO, "motors", "drone_12pp_24v.ini")), "nominal_speed_rpm", "nominal_speed_rpm = 9000"),
+        "max_speed_rpm", "max_speed_rpm = 18000"))
+    d = defines(generate(work, fast_motor, board96))
+    if d:
+        tau = number(d, "PLL_EMF_FILTER_TIME_S")
+        we = 18000 * 12 * 2 * math.pi / 60
+        check(abs(tau * we - 3.464) < 0.01,
+              "drone at 18000 rpm on 96 kHz: PLL back-EMF filter %.4g ms = 3.46 / w_e,top "
+              "(%.3f)" % (tau * 1e3, tau * we))
+
+    # A current loop: Kp = Lq wc, Ki = Rs wc, fc = max(1 kHz, the electrical
+    # frequency at the top speed), at most fs/16: the drone (2400 Hz at
+    # 12000 rpm) gets 2400 Hz, the Hurst075 1 kHz.
+    for motor, board, fc in ((HURST, MCLV, 1000.0),
+                             (os.path.join(REPO, "motors", "drone_12pp_24v.ini"),
+                              os.path.join(REPO, "tests", "torture", "boards", "drone_24v.ini"),
+                              2400.0)):
+        d = defines(generate(work, motor, board))
+        if d:
+            wc = 2 * math.pi * fc
+            kp, ki = number(d, "CURRENT_KP_V_PER_A"), number(d, "CURRENT_KI_V_PER_AS")
+            check(abs(kp / (number(d, "MOTOR_LQ_H") * wc) - 1) < 1e-3 and
+                  abs(ki / (number(d, "MOTOR_RS_OHM") * wc) - 1) < 1e-3,
+                  "%s: current PI at %.0f Hz (Kp %g, Ki %g)" % (os.path.basename(motor), fc,
+                                                                kp, ki))
+
+
 def focsim_summary(work, focsim, scenario):
     p = subprocess.run([focsim, "--scenario", scenario, "--csv",
                         os.path.join(work, "run.csv")], capture_output=True, text=True)
@@ -407,6 +551,8 @@ def main():
         bad_inputs(work)
     elif case == "options":
         options(work)
+    elif case == "gains":
+        gains(work)
     elif case == "focsim_summary":
         focsim_summary(work, sys.argv[3], sys.argv[4])
     else:

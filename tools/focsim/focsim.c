@@ -6,6 +6,7 @@
  *          [--field-weakening off|table|voltage]
  *          [--monitor FILE [--monitor-out FILE]] [--time] [--substeps N]
  *          [--commission-out FILE.ini]
+ *          [--measure-from T]
  *
  * --commission-out writes the motor description (tools/tune.py's INI) of
  * a scenario's `commission` (sim.h sim_commission_ini); without valid
@@ -20,6 +21,11 @@
  * lines, simmon.h) against the controller, with a scope buffer sampled
  * after every fast step; what the monitor answers (scope dumps included)
  * goes to --monitor-out, or to standard output.
+ *
+ * The summary's angle_err_rms_deg is the RMS of the estimated minus the
+ * plant's true electrical angle (deg) over the PWM periods in RUN from
+ * --measure-from T seconds on (default 0: all of RUN); nan when there was
+ * no such period.
  *
  * Without --estimator it uses the one userparms.h selects (FOC_ESTIMATOR);
  * without --scenario it runs tools/scenarios/default.scn.  Prints a summary
@@ -71,7 +77,8 @@ static void usage(FILE *f)
           "              [--field-weakening off|table|voltage] [--stop-mode ramp|coast|short]\n"
           "              [--brake-resistor on|off] [--sensored-start] [--min-speed-rpm N]\n"
           "              [--monitor FILE [--monitor-out FILE]] [--time] [--substeps N]\n"
-          "              [--commission-out FILE.ini]\n",
+          "              [--commission-out FILE.ini]\n"
+          "              [--measure-from T]\n",
           f);
 }
 
@@ -138,6 +145,14 @@ static int parse_option(cli_t *cli, const char *opt, const char *val)
             return -1;
         }
         cli->sim.min_speed_rpm = (int)n;
+    } else if (strcmp(opt, "--measure-from") == 0) {
+        char *end = NULL;
+        const double t = strtod(val, &end);
+        if (end == val || *end != '\0' || !(t >= 0.0) || !isfinite(t)) {
+            fprintf(stderr, "focsim: --measure-from takes a time in seconds >= 0\n");
+            return -1;
+        }
+        cli->sim.measure_from_s = t;
     } else if (strcmp(opt, "--monitor") == 0) {
         cli->monitor = val;
     } else if (strcmp(opt, "--commission-out") == 0) {
@@ -298,6 +313,7 @@ static void print_summary(const sim_t *s, const sim_row_t *last, const char *est
     printf("speed_ref_rpm_final=%.2f\n", last->speed_ref_rpm);
     printf("speed_est_rpm_final=%.2f\n", last->speed_est_rpm);
     printf("peak_current_a=%.4f\n", s->peak_current_a);
+    printf("angle_err_rms_deg=%.3f\n", sim_angle_err_rms_deg(s));
     printf("sim_time_s=%.4f\n", last->t_s);
 }
 

@@ -74,6 +74,7 @@ void sim_default_options(sim_options_t *o)
     o->min_speed_rpm = -1;
     o->mtpa = -1;
     o->substeps = 0;
+    o->measure_from_s = 0.0;
 }
 
 /* The plant as userparms.h describes it. */
@@ -150,6 +151,9 @@ int sim_init(sim_t *s, const sim_options_t *o, const scn_t *scn, char *err,
     s->closed_loop_time_s = -1.0;
     s->peak_current_a = 0.0;
     s->slow_elsewhere = 0;
+    s->measure_from_s = o->measure_from_s;
+    s->angle_err_sq_sum = 0.0;
+    s->angle_err_n = 0;
     return 0;
 }
 
@@ -299,6 +303,12 @@ int sim_step(sim_t *s, sim_row_t *row)
     }
 
     const pmsm_sample_t *m = &port->last_sample;
+    if (s->ctrl.state == FOC_STATE_RUN && s->t_s >= s->measure_from_s) {
+        const double err_deg = remainder(
+            s->ctrl.est.est_theta * (360.0 / 65536.0) - m->theta_e_rad * (180.0 / FOC_PI_D), 360.0);
+        s->angle_err_sq_sum += err_deg * err_deg;
+        s->angle_err_n++;
+    }
     if (row != NULL) {
         fill_row(s, m, row);
     }
@@ -370,6 +380,11 @@ int sim_commission_ini(const sim_t *s, FILE *f)
             (double)MOTOR_MAX_SPEED_RPM, (double)MOTOR_RATED_CURRENT_A, (double)CURRENT_LIMIT_A,
             (double)MOTOR_INERTIA_KGM2, (double)MOTOR_VISCOUS_NM_PER_KRPM, (double)MOTOR_COULOMB_NM);
     return ferror(f) ? -1 : 0;
+}
+
+double sim_angle_err_rms_deg(const sim_t *s)
+{
+    return s->angle_err_n != 0u ? sqrt(s->angle_err_sq_sum / (double)s->angle_err_n) : NAN;
 }
 
 int sim_last_period(const sim_t *s)

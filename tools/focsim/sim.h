@@ -45,6 +45,8 @@ typedef struct {
     int mtpa;               /* 0/1, or -1: MTPA on salient rotors (FOC_SALIENT) */
     int substeps;           /* RK4 substeps per PWM period of the model, */
                             /* 0 for its default (4) */
+    double measure_from_s;  /* the angle error's RMS counts the periods in */
+                            /* RUN from this time on, s (0: all of RUN) */
 } sim_options_t;
 
 /* userparms.h's choices, seed 1, no sensored start. */
@@ -75,6 +77,10 @@ typedef struct {
     double peak_current_a;      /* largest true |phase current| seen */
     int slow_elsewhere;         /* 1: sim_step leaves foc_slow_step to the */
                                 /* caller (a test running it preempted) */
+    double measure_from_s;      /* sim_options_t's */
+    double angle_err_sq_sum;    /* sum of (estimated - true electrical */
+    uint64_t angle_err_n;       /* angle, deg)^2 over the periods in RUN */
+                                /* from measure_from_s on, and their count */
 } sim_t;
 
 /* Sets up model, port and controller; 0, or -1 with a message. */
@@ -85,6 +91,12 @@ int sim_init(sim_t *s, const sim_options_t *o, const scn_t *scn, char *err,
  * last period (row not filled then).  row may be NULL when the caller
  * needs no row for this period (the run is the same; faster). */
 int sim_step(sim_t *s, sim_row_t *row);
+
+/* RMS of the estimated minus the plant's true electrical angle, deg, at
+ * the sample of every PWM period in RUN from measure_from_s on (the angle
+ * the fast step ran on against the rotor's at that instant); NAN when no
+ * such period has been simulated. */
+double sim_angle_err_rms_deg(const sim_t *s);
 
 /* 1 if the next sim_step is the scenario's last period. */
 int sim_last_period(const sim_t *s);
