@@ -33,7 +33,7 @@ Formulas (SI units; p pole pairs, psi flux linkage, fs PWM frequency):
                        fc = max(1 kHz, electrical frequency at n_top),
                        at most fs/16
   speed PI             Kt = 1.5 p psi; Kp = J wb / Kt, Ki = Kp wb / 4
-                       (default wb = min(600, max(150, w_L)) rad/s, w_L the
+                       (default wb = min(600, max(50, w_L)) rad/s, w_L the
                        bandwidth an inductance error of 50 % leaves stable:
                        speed_bw_for_inductance_error)
   Luenberger observer  error poles s^2 + (Rs/L - K1) s + K2/L: critically
@@ -101,7 +101,8 @@ RPM = 2.0 * math.pi / 60.0          # rad/s per rpm
 DEFAULT_SPEED_BW = 600.0            # rad/s, unless the motor needs less:
 L_ERROR_ENVELOPE = 0.5              # |plant L / parameter - 1| the estimators must bear
 SPEED_LAG_PHASE = 0.3               # rad the fake speed of an L error may cost the speed loop
-SPEED_BW_MIN = 150.0                # rad/s: slower, the follow checks and the FW lose the loop
+SPEED_BW_MIN = 50.0                 # rad/s: the fan at 37 lost the follow checks (seeds 2039, 3131),
+                                    # at 150 it hunted on a 3 % resistance error (docs/safety.md)
 CURRENT_DIST_RATIO = 0.5            # config.h's default: the current PIs' disturbance pole / wc
 DEFAULT_FW_BW = 160.0               # rad/s
 PLL_EMF_FILTER_S = 0.2e-3           # AN1292's back-EMF filter, unless the top speed needs less:

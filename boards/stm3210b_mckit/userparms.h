@@ -119,7 +119,7 @@
 #define FLUX_CORR_PER_SPEED         1.5
 #define FLUX_MAG_PER_SPEED          0.075
 #define FLUX_SPEED_OBS_BW_RAD_S     800.0
-/* Luenberger observer + PLL (ST, seed 002).  K1, K2: the observer's
+/* Luenberger observer + PLL (ST, docs/references.md [ST-FOC]).  K1, K2: the observer's
  * current-error gains, in ST's physical units, placed so that the observer
  * error obeys s^2 + (Rs/Ls - K1) s + K2/Ls = 0 with a double pole at the
  * observer bandwidth wo of the header: K2 = Ls wo^2, K1 = Rs/Ls - 2 wo,
