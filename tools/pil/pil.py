@@ -234,6 +234,9 @@ class Run:
             m.sched.at(t + 0.000002 * TICK_HZ, lambda tt: m.set_bkin(tt, False), True)
         elif cmd == "plant":
             names = ["rs", "ld", "lq", "flux", "j", "b", "deadtime", "noise", "buscap", "brakeres"]
+            if args[0] not in names:
+                raise SystemExit("pil: plant %s: not in the PIL's plant (only %s; focsim has the "
+                                 "others)" % (args[0], ", ".join(names)))
             k = names.index(args[0])
             if args[0] == "deadtime":
                 m.plant_deadtime_from_image = False
