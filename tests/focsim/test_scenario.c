@@ -142,7 +142,7 @@ static void case_end_time(void)
     } cases[] = {
         { "0 start\n3 end\n1 stop\n", 3.0 },      /* explicit, not last line */
         { "0 start\n2 stop\n1 speed 5\n", 2.5 },  /* last event + 0.5 s */
-        { "# nothing\n", 0.5 },                   /* empty scenario */
+        { "\xEF\xBB\xBF" "0 start\n", 0.5 },      /* byte-order mark */
         { "1 end\n1 stop\n", 1.0 },               /* event at the end time */
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
@@ -188,6 +188,10 @@ static void case_errors_name_the_line(void)
         { "0 plant noise -1\n", "1: plant noise: must be >= 0" },
         { "1 end\n2 end\n", "2: second 'end' (first at line 1)" },
         { "0 start\n3 stop\n1 end\n", "2: 'stop' at 3 s is after 'end' at 1 s" },
+        { "# nothing\n", " no events: an empty scenario simulates nothing" },
+        { "", " no events" },
+        { "0 start\n1e9 end\n", "2: the simulation would end at 1e+09 s, beyond 3600 s" },
+        { "0 start\n4000 stop\n", " the simulation would end at 4000.5 s, beyond 3600 s" },
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         char err[256] = "";

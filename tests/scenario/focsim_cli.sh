@@ -56,4 +56,17 @@ check "unknown estimator rejected" "[ $? -ne 0 ]"
 check "--decimate 0 rejected" "[ $? -ne 0 ]"
 "$focsim" --scenario "$dir/does-not-exist.scn" > /dev/null 2>&1
 check "missing scenario rejected" "[ $? -ne 0 ]"
+"$focsim" --monitor-out "$dir/mon.txt" --scenario "$dir/short.scn" > /dev/null 2>&1
+check "--monitor-out without --monitor rejected" "[ $? -ne 0 ]"
+"$focsim" --help | grep -q -- '--ideal-inverter'
+check "usage names --ideal-inverter" "[ $? -eq 0 ]"
+# a plant the model cannot integrate: an error and a non-zero exit, not nan
+printf '0 start\n0.05 plant flux 1e300\n0.3 end\n' > "$dir/nonfinite.scn"
+"$focsim" --scenario "$dir/nonfinite.scn" > "$dir/nonfinite.txt" 2> "$dir/nonfinite.err"
+rc=$?
+check "non-finite model: non-zero exit" "[ $rc -ne 0 ]"
+check "non-finite model: says so" "grep -q 'no longer finite' '$dir/nonfinite.err'"
+printf '1e9 end\n' > "$dir/long.scn"
+"$focsim" --scenario "$dir/long.scn" > /dev/null 2>&1
+check "end beyond SCN_MAX_END_S rejected" "[ $? -ne 0 ]"
 exit $fail

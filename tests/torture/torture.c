@@ -826,6 +826,12 @@ static int run_spec(const spec_t *sp, inject_t inj, int trace, result_t *res)
         }
         k++;
     }
+    if (sim.model_failed) {
+        fprintf(stderr, "torture: the motor model's state is no longer finite at %.6f s\n",
+                sim.t_s);
+        scn_free(&scn);
+        return -1;
+    }
     sim_commission_print(&sim, stdout); /* (a scenario with `commission`) */
     res->final_state = sim.ctrl.state;
     res->fault = sim.ctrl.faults.first;

@@ -77,6 +77,7 @@ static void usage(FILE *f)
           "              [--field-weakening off|table|voltage] [--stop-mode ramp|coast|short]\n"
           "              [--brake-resistor on|off] [--sensored-start] [--min-speed-rpm N]\n"
           "              [--monitor FILE [--monitor-out FILE]] [--time] [--substeps N]\n"
+          "              [--ideal-inverter]\n"
           "              [--commission-out FILE.ini]\n"
           "              [--measure-from T]\n",
           f);
@@ -208,6 +209,11 @@ static int parse_cli(int argc, char **argv, cli_t *cli)
         if (parse_option(cli, opt, argv[++i]) != 0) {
             return -1;
         }
+    }
+    if (cli->monitor_out != NULL && cli->monitor == NULL) {
+        fprintf(stderr, "focsim: --monitor-out needs --monitor (the script whose answers it "
+                        "holds)\n");
+        return -1;
     }
     return 0;
 }
@@ -385,6 +391,11 @@ int main(int argc, char **argv)
     const double cpu_s = (double)(clock() - t0) / CLOCKS_PER_SEC;
 
     int rc = 0;
+    if (sim.model_failed) {
+        fprintf(stderr, "focsim: the motor model's state is no longer finite at %.6f s "
+                        "(a plant value beyond physical range?)\n", sim.t_s);
+        rc = 1;
+    }
     if (csv != NULL && fclose(csv) != 0) {
         fprintf(stderr, "focsim: error writing %s\n", cli.csv);
         rc = 1;

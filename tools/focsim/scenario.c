@@ -305,8 +305,19 @@ static int parse_lines(char *text, report_t *r, scn_t *out)
         }
         last_t = fmax(last_t, ev.t_s);
     }
+    if (out->count == 0) {
+        r->line = 0;
+        return fail(r, "no events: an empty scenario simulates nothing");
+    }
     if (end_line == 0) {
         out->end_s = last_t + 0.5;
+    }
+    if (out->end_s > SCN_MAX_END_S) {
+        r->line = end_line; /* 0 without `end`: the last event's time */
+        return fail(r, "the simulation would end at %g s, beyond %g s (SCN_MAX_END_S: an "
+                       "hour of PWM periods is gigabytes of CSV)", out->end_s, SCN_MAX_END_S);
+    }
+    if (end_line == 0) {
         return 0;
     }
     /* In file order, so the first offending line is reported. */
@@ -338,7 +349,9 @@ int scn_parse_text(const char *text, const char *name, scn_t *out, char *err,
         return fail(&r, "out of memory");
     }
     memcpy(copy, text, len + 1);
-    const int rc = parse_lines(copy, &r, out);
+    /* a UTF-8 byte-order mark (an editor's) is not part of the first line */
+    const size_t bom = (strncmp(copy, "\xEF\xBB\xBF", 3) == 0) ? 3u : 0u;
+    const int rc = parse_lines(copy + bom, &r, out);
     free(copy);
     if (rc != 0) {
         scn_free(out);

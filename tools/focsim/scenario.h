@@ -44,9 +44,10 @@
  *   <t> end                    end of the simulation (at most one)
  *
  * Events are sorted by time; events with equal times keep their file order.
- * The simulation ends at the `end` time; without `end` it ends 0.5 s after
- * the last event (0.5 s for an empty scenario).  An event later than `end`
- * is an error, since it would never be applied.
+ * The simulation ends at the `end` time, at most SCN_MAX_END_S; without
+ * `end` it ends 0.5 s after the last event.  An event later than `end`
+ * is an error, since it would never be applied; so is a scenario without
+ * events.  A UTF-8 byte-order mark at the start is skipped.
  *
  * Anything else (unknown command or plant parameter, missing or extra field,
  * non-numeric or non-finite number, negative time, value out of its physical
@@ -56,6 +57,9 @@
 #define FOCSIM_SCENARIO_H
 
 #include <stddef.h>
+
+/* The latest `end` accepted, s (an hour: 57.6 M PWM periods at 16 kHz). */
+#define SCN_MAX_END_S 3600.0
 
 typedef enum {
     SCN_START, SCN_STOP, SCN_SPEED, SCN_LOAD, SCN_LOCK, SCN_UNLOCK, SCN_VDC,

@@ -154,6 +154,7 @@ int sim_init(sim_t *s, const sim_options_t *o, const scn_t *scn, char *err,
     s->measure_from_s = o->measure_from_s;
     s->angle_err_sq_sum = 0.0;
     s->angle_err_n = 0;
+    s->model_failed = 0;
     return 0;
 }
 
@@ -282,7 +283,7 @@ static void fill_row(sim_t *s, const pmsm_sample_t *m, sim_row_t *r)
 
 int sim_step(sim_t *s, sim_row_t *row)
 {
-    if (s->t_s > s->scn->end_s) {
+    if (s->t_s > s->scn->end_s || s->model_failed) {
         return 0;
     }
     host_port_t *port = host_port();
@@ -316,6 +317,12 @@ int sim_step(sim_t *s, sim_row_t *row)
     s->peak_current_a = fmax(s->peak_current_a, i_peak);
 
     pmsm_step_period(&s->model);
+    const pmsm_state_t *x = &s->model.s;
+    if (!(isfinite(x->id_a) && isfinite(x->iq_a) && isfinite(x->wm_rad_s) &&
+          isfinite(x->theta_e_rad) && isfinite(x->vdc_v))) {
+        s->model_failed = 1;
+        return 0;
+    }
     s->period++;
     s->t_s = (double)s->period / PWM_FREQUENCY_HZ;
     return 1;

@@ -81,6 +81,8 @@ typedef struct {
     double angle_err_sq_sum;    /* sum of (estimated - true electrical */
     uint64_t angle_err_n;       /* angle, deg)^2 over the periods in RUN */
                                 /* from measure_from_s on, and their count */
+    int model_failed;           /* 1: the model's state became non-finite */
+                                /* (sim_step then ends the run) */
 } sim_t;
 
 /* Sets up model, port and controller; 0, or -1 with a message. */
@@ -88,7 +90,8 @@ int sim_init(sim_t *s, const sim_options_t *o, const scn_t *scn, char *err,
              size_t errlen);
 
 /* One PWM period; returns 1 while the scenario has not ended, 0 after the
- * last period (row not filled then).  row may be NULL when the caller
+ * last period (row not filled then) or once the model's state is no longer
+ * finite (model_failed: a plant value beyond what the model can integrate).  row may be NULL when the caller
  * needs no row for this period (the run is the same; faster). */
 int sim_step(sim_t *s, sim_row_t *row);
 
