@@ -47,6 +47,60 @@
 #define FOC_STATIC_ASSERT(cond, msg) _Static_assert(cond, msg)
 #endif
 
+/* ----------------------------------------------- userparms.h's inputs --
+ * Each parameter on its own, before anything is derived from it, so that a
+ * value out of its physical range stops the build with its own name (the
+ * derived checks below then name what combination is impossible).  The
+ * ranges are wide: they refuse what no motor or board has, not unusual
+ * values.  A NaN fails every comparison and an infinity the upper bound;
+ * an integer parameter must be a whole number. */
+#define FOC_PARAM_RANGE(name, lo, hi)                                          \
+    FOC_STATIC_ASSERT((name) >= (lo) && (name) <= (hi),                         \
+                      #name " must be within [" #lo ", " #hi "] (finite)")
+#define FOC_PARAM_POSITIVE(name, hi)                                           \
+    FOC_STATIC_ASSERT((name) > 0 && (name) <= (hi), #name " must be > 0 and <= " #hi " (finite)")
+#define FOC_PARAM_WHOLE(name, lo, hi)                                          \
+    FOC_STATIC_ASSERT((name) >= (lo) && (name) <= (hi) && (name) == (long)(name), \
+                      #name " must be a whole number within [" #lo ", " #hi "]")
+FOC_PARAM_WHOLE(MOTOR_POLE_PAIRS, 1, 64);
+FOC_PARAM_POSITIVE(MOTOR_RS_OHM, 1000.0);
+FOC_PARAM_POSITIVE(MOTOR_LD_H, 10.0);
+FOC_PARAM_POSITIVE(MOTOR_LQ_H, 10.0);
+FOC_PARAM_POSITIVE(MOTOR_KE_VPK_PER_KRPM, 100000.0);
+FOC_PARAM_POSITIVE(MOTOR_NOMINAL_SPEED_RPM, 200000.0);
+FOC_PARAM_POSITIVE(MOTOR_MAX_SPEED_RPM, 200000.0);
+FOC_PARAM_POSITIVE(MOTOR_RATED_CURRENT_A, 10000.0);
+FOC_PARAM_POSITIVE(MOTOR_INERTIA_KGM2, 1000.0);
+FOC_PARAM_RANGE(MOTOR_VISCOUS_NM_PER_KRPM, 0.0, 10000.0);
+FOC_PARAM_RANGE(MOTOR_COULOMB_NM, 0.0, 10000.0);
+FOC_PARAM_POSITIVE(BOARD_VDC_NOMINAL_V, 2000.0);
+FOC_PARAM_POSITIVE(BOARD_VDC_FULL_SCALE_V, 4000.0);
+FOC_PARAM_POSITIVE(BOARD_CURRENT_FULL_SCALE_A, 10000.0);
+FOC_PARAM_WHOLE(BOARD_ADC_BITS, 8, 16);
+FOC_PARAM_RANGE(PWM_FREQUENCY_HZ, 1000.0, 100000.0);
+FOC_PARAM_RANGE(PWM_DEADTIME_S, 0.0, 20e-6);
+FOC_PARAM_WHOLE(CONTROL_SLOW_DIVIDER, 1, 255);
+FOC_PARAM_POSITIVE(SPEED_BASE_RPM, 200000.0);
+FOC_PARAM_POSITIVE(CURRENT_LIMIT_A, 10000.0);
+FOC_PARAM_POSITIVE(CURRENT_KP_V_PER_A, 1e6);
+FOC_PARAM_POSITIVE(CURRENT_KI_V_PER_AS, 1e9);
+FOC_PARAM_POSITIVE(VOLTAGE_LIMIT_FRACTION, 1.0);
+FOC_PARAM_POSITIVE(SPEED_KP_A_PER_RPM, 1e6);
+FOC_PARAM_POSITIVE(SPEED_KI_A_PER_RPM_S, 1e9);
+FOC_PARAM_POSITIVE(SPEED_RAMP_RPM_PER_S, 1e7);
+FOC_PARAM_POSITIVE(STARTUP_ALIGN_CURRENT_A, 10000.0);
+FOC_PARAM_POSITIVE(STARTUP_ALIGN_TIME_S, 600.0);
+FOC_PARAM_POSITIVE(STARTUP_RAMP_TIME_S, 600.0);
+FOC_PARAM_POSITIVE(STARTUP_FINAL_SPEED_RPM, 200000.0);
+FOC_PARAM_POSITIVE(STARTUP_MIN_SPEED_RPM, 200000.0);
+FOC_PARAM_POSITIVE(STARTUP_TIMEOUT_S, 3600.0);
+FOC_PARAM_WHOLE(STARTUP_CONV_TESTS, 1, 255);
+FOC_PARAM_POSITIVE(STARTUP_SPEED_WINDOW_MIN, 1.0);
+FOC_STATIC_ASSERT(STARTUP_SPEED_WINDOW_MAX > STARTUP_SPEED_WINDOW_MIN && STARTUP_SPEED_WINDOW_MAX <= 16.0,
+                  "STARTUP_SPEED_WINDOW_MAX must be above STARTUP_SPEED_WINDOW_MIN and <= 16");
+FOC_PARAM_POSITIVE(OVERVOLTAGE_V, 4000.0);
+FOC_PARAM_POSITIVE(UNDERVOLTAGE_V, 4000.0);
+
 #define FOC_PI_D 3.14159265358979323846
 #define FOC_SQRT3_D 1.73205080756887729353
 

@@ -26,6 +26,9 @@ typedef enum {
     FOC_EST_LUENBERGER = 2, /* ST-style Luenberger observer + PLL */
     FOC_EST_FLUX = 3        /* flux-linkage estimator + speed observer */
 } foc_est_kind_t;
+FOC_STATIC_ASSERT(FOC_ESTIMATOR >= FOC_EST_SENSORED && FOC_ESTIMATOR <= FOC_EST_FLUX,
+                  "FOC_ESTIMATOR must be FOC_EST_PLL, FOC_EST_LUENBERGER, FOC_EST_FLUX or "
+                  "FOC_EST_SENSORED");
 
 typedef struct {
     foc_ab_t v_ab;          /* voltage applied in the last period, Q15 */
