@@ -41,8 +41,18 @@
  * build; the message is then in the line the compiler points at. */
 #define FOC_STATIC_ASSERT_CAT2(a, b) a##b
 #define FOC_STATIC_ASSERT_CAT(a, b) FOC_STATIC_ASSERT_CAT2(a, b)
+#if defined(__clang__)
+/* clang folds the floating-point size as GCC does, but warns that it is an
+ * extension (-Wgnu-folding-constant): the folding is the point here. */
+#define FOC_STATIC_ASSERT(cond, msg)                                           \
+    _Pragma("clang diagnostic push")                                           \
+    _Pragma("clang diagnostic ignored \"-Wgnu-folding-constant\"")            \
+    typedef char FOC_STATIC_ASSERT_CAT(foc_static_assert_line_, __LINE__)[(cond) ? 1 : -1] \
+    _Pragma("clang diagnostic pop")
+#else
 #define FOC_STATIC_ASSERT(cond, msg)                                           \
     typedef char FOC_STATIC_ASSERT_CAT(foc_static_assert_line_, __LINE__)[(cond) ? 1 : -1]
+#endif
 #else
 #define FOC_STATIC_ASSERT(cond, msg) _Static_assert(cond, msg)
 #endif
