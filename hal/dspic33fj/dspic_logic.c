@@ -51,7 +51,7 @@ uint16_t dspic_deadtime_dtcon(uint16_t tcy)
 {
     uint16_t ps;
     for (ps = 0; ps < 4u; ps++) {
-        const uint32_t unit = 1uL << ps;
+        const uint32_t unit = (uint32_t)1u << ps;
         const uint32_t count = ((uint32_t)tcy + unit - 1u) / unit; /* round up */
         if (count <= 63u) {
             return (uint16_t)((uint16_t)(ps << 6) | (uint16_t)count);
