@@ -46,7 +46,7 @@ static void fast_sync(foc_comm_t *m)
     }
 }
 
-void foc_comm_sum(foc_comm_t *m, foc_dq_t v, foc_dq_t i)
+FOC_COLD void foc_comm_sum(foc_comm_t *m, foc_dq_t v, foc_dq_t i)
 {
     fast_sync(m);
     if (m->count < FOC_COMM_SUM_N) { /* each sum within 2^15 x 2^12 */
@@ -76,7 +76,7 @@ static void pulse_add(foc_comm_t *m, int32_t j, int32_t dev, int32_t sign)
     m->sum[1] += sign * ((v2 * dev) / 16);
 }
 
-q15_t foc_comm_pulse(foc_comm_t *m, q15_t i_axis, q15_t i_hold)
+FOC_COLD q15_t foc_comm_pulse(foc_comm_t *m, q15_t i_axis, q15_t i_hold)
 {
     fast_sync(m);
     const int32_t k = m->phase;
@@ -108,16 +108,35 @@ q15_t foc_comm_pulse(foc_comm_t *m, q15_t i_axis, q15_t i_hold)
 
 /* ------------------------------------------------------------ arithmetic */
 
-/* Q14 ratio of a measure to its parameter: (num / den) / (param_q20 /
- * 2^20) x 2^14, in 64 bits (num within 2^28: x 2^34 within 2^62); 0 when
- * den is not positive, held to [0, 2^20]. */
-static int32_t ratio_q14(int32_t num, int32_t den, int32_t param_q20)
+/* floor(num x 2^bits / den) for num >= 0 and den > 0, else 0, held to
+ * `max` (<= 2^31 - 1): a restoring division in 32 bits (libgcc's 64-bit
+ * division would cost 1 KB of flash).  rem < den < 2^31 before each
+ * doubling, so it never wraps; q <= max before each doubling. */
+FOC_COLD static int32_t div_frac(int32_t num, int32_t den, uint8_t bits, int32_t max)
 {
-    if (den <= 0) {
+    if (num <= 0 || den <= 0) {
         return 0;
     }
-    const int64_t r = ((int64_t)num * ((int64_t)1 << 34)) / ((int64_t)den * param_q20);
-    return (r < 0) ? 0 : (r > 1048576) ? 1048576 : (int32_t)r;
+    uint32_t q = (uint32_t)num / (uint32_t)den;
+    uint32_t rem = (uint32_t)num - q * (uint32_t)den;
+    for (uint8_t k = 0; k < bits; k++) {
+        if (q > (uint32_t)max) {
+            return max;
+        }
+        q <<= 1;
+        rem <<= 1;
+        if (rem >= (uint32_t)den) {
+            rem -= (uint32_t)den;
+            q |= 1u;
+        }
+    }
+    return (q > (uint32_t)max) ? max : (int32_t)q;
+}
+
+/* Q14 ratio num / den, 0 .. RATIO_MAX_Q14 + 1 (beyond: implausible). */
+static int32_t ratio_q14(int32_t num, int32_t den)
+{
+    return div_frac(num, den, 14, RATIO_MAX_Q14 + 1);
 }
 
 static uint8_t plausible(int32_t r)
@@ -135,14 +154,14 @@ static int32_t mean_q15(int32_t sum)
  * x sum W - Rs x the weighted deviations, sum[1] x 16 / 2), against the
  * parameter's sum_param = Ts / L_param x dV x 2 cycles x sum W; Rs's
  * share with the measured Rs (ts_tau_q20: Ts Rs / L_param, Q20). */
-static int32_t inductance_q14(const foc_comm_t *m, int32_t sum_param, int32_t ts_tau_q20)
+FOC_COLD static int32_t inductance_q14(const foc_comm_t *m, int32_t sum_param, int32_t ts_tau_q20)
 {
-    if (m->sum[0] <= 0) {
-        return 0;
-    }
+    /* Ts Rs / L_param (Q20, < 2^20) x the Rs ratio (Q14, < 2^15): Q20
+     * below 2^21; times sum[1] x 8 (|sum[1]| < 2^31) in a 64-bit product,
+     * < 2^55, back to the regression sum's scale by 2^20 */
     const int64_t rs_share = ((((int64_t)ts_tau_q20 * m->rs_q14) >> 14) * m->sum[1] * 8) >> 20;
-    const int64_t r = (((int64_t)sum_param - rs_share) * 16384) / m->sum[0];
-    return (r < 0) ? 0 : (r > 1048576) ? 1048576 : (int32_t)r;
+    const int64_t num = (int64_t)sum_param - rs_share; /* sum_param < 2^29 */
+    return ratio_q14((num > INT32_MAX) ? INT32_MAX : (int32_t)num, m->sum[0]);
 }
 
 static int32_t sat_q15(int32_t x)
@@ -156,7 +175,7 @@ static int32_t sat_q15(int32_t x)
  * along E turned back 90 deg; psi = |E| / w - (Ld - Lq) id_rotor, against
  * the parameter's w_base psi / V_base (FOC_COMM_KE_Q15).  Per-unit
  * reactances in Q20 (each below 2^31: config.h). */
-static int32_t flux_q14(const foc_comm_t *m, q15_t speed)
+FOC_COLD static int32_t flux_q14(const foc_comm_t *m, q15_t speed)
 {
     const int32_t vx = mean_q15(m->sum[0]);
     const int32_t vy = mean_q15(m->sum[1]);
@@ -172,11 +191,17 @@ static int32_t flux_q14(const foc_comm_t *m, q15_t speed)
     if (e <= 0 || speed <= 0) {
         return 0;
     }
-    const int32_t id_rotor = (int32_t)(((int64_t)ix * ey - (int64_t)iy * ex) / e);
+    /* |ex|, |ey| <= 32767 and |ix|, |iy| <= 32768: the cross product is
+     * below 2^31; id_rotor Q15, |id_rotor| <= |I| < 2^16 */
+    const int32_t id_rotor = ((int32_t)ix * ey - (int32_t)iy * ex) / e;
+    /* (Xd Ld_ratio - Xq Lq_ratio), Q20, |.| < 2^33 (reactances < 2^31,
+     * ratios < 2): its product with id_rotor in 64 bits, back to Q15
+     * below 2^29 */
     const int64_t xdq_q20 = ((int64_t)FOC_COMM_XD_Q20 * m->ld_q14 - (int64_t)FOC_COMM_XQ_Q20 * m->lq_q14) >> 14;
-    const int64_t psi_q15 = ((int64_t)e * 32768) / speed - ((xdq_q20 * id_rotor) >> 20);
-    const int64_t r = (psi_q15 * 16384) / FOC_COMM_KE_Q15;
-    return (r < 0) ? 0 : (r > 1048576) ? 1048576 : (int32_t)r;
+    const int32_t reluctance_q15 = (int32_t)((xdq_q20 * id_rotor) >> 20);
+    /* |E| / w, Q15 per-unit flux, held below 2^30: the difference fits */
+    const int32_t psi_q15 = div_frac(e, speed, 15, 1073741823) - reluctance_q15;
+    return ratio_q14(psi_q15, FOC_COMM_KE_Q15);
 }
 
 /* ------------------------------------------------------------- sequence */
@@ -250,7 +275,10 @@ static foc_comm_status_t rs_tick(foc_comm_t *m, foc_startup_t *su)
     if (mean_q15(di) < FOC_COMM_I_HIGH / 4) {
         return fail(m);
     }
-    const int32_t r = ratio_q14(m->rs_v_high - m->sum[0], di, FOC_COMM_RS_Q20);
+    /* Rs per-unit, Q20 (< 2^31 while within 2 x the parameter: config.h
+     * holds FOC_RS_PU below 1000), then its ratio to the parameter */
+    const int32_t rs_q20 = div_frac(m->rs_v_high - m->sum[0], di, 20, INT32_MAX);
+    const int32_t r = ratio_q14(rs_q20, FOC_COMM_RS_Q20);
     if (plausible(r) == 0u) {
         return fail(m);
     }
@@ -319,7 +347,7 @@ static foc_comm_status_t flux_tick(foc_comm_t *m, foc_startup_t *su)
     return FOC_COMM_DONE;
 }
 
-foc_comm_status_t foc_comm_tick(foc_comm_t *m, foc_startup_t *su, const foc_comm_in_t *in)
+FOC_COLD foc_comm_status_t foc_comm_tick(foc_comm_t *m, foc_startup_t *su, const foc_comm_in_t *in)
 {
     if (m->ticks < UINT16_MAX) {
         m->ticks++;

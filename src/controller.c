@@ -242,6 +242,8 @@ static FOC_ALWAYS_INLINE void apply_voltage(foc_ctrl_t *c, foc_sincos_t sc_v)
 #define FRAME_FORCED 1u   /* the start-up's forced angle (ALIGN, OPENLOOP) */
 #define FRAME_PROBE 2u    /* CATCH's inductance probe: the estimate at its */
                           /* start turned at the caught speed (startup) */
+#define FRAME_PULSE 3u    /* COMMISSION's inductance pulses: the standing */
+                          /* forced frame, both PIs held (comm_pulse) */
 
 /* The inductance probe, period `c->lprobe` of FOC_LPROBE_PERIODS
  * (config.h), in place of the d PI (and in CATCH of the q PI too), which
@@ -269,6 +271,20 @@ static void l_probe(foc_ctrl_t *c, uint8_t frame, q15_t v_max)
     const q15_t dv = (k <= FOC_LPROBE_N) ? (q15_t)-FOC_LPROBE_DV : (k <= 2u * FOC_LPROBE_N) ? FOC_LPROBE_DV : 0;
     const q15_t vd = foc_add_q15((q15_t)(c->current_ctrl.pi_d.integ / 32768), dv);
     c->v_dq.d = (vd > v_max) ? v_max : (vd < (q15_t)-v_max) ? (q15_t)-v_max : vd;
+}
+
+/* COMMISSION's inductance pulses (commission.h), in place of both current
+ * PIs, which they leave as they were: the PIs' integrators' voltages
+ * plus foc_comm_pulse's square wave on the pulsed axis, within +-v_max. */
+FOC_COLD static void comm_pulse(foc_ctrl_t *c, q15_t v_max)
+{
+    const uint8_t on_d = (uint8_t)(c->comm.mode == (uint8_t)FOC_COMM_MODE_PULSE_D);
+    const q15_t dv = (on_d != 0u) ? foc_comm_pulse(&c->comm, c->i_dq.d, c->i_ref_slewed.d)
+                                  : foc_comm_pulse(&c->comm, c->i_dq.q, c->i_ref_slewed.q);
+    const int32_t vd = c->current_ctrl.pi_d.integ / 32768 + ((on_d != 0u) ? dv : 0);
+    const int32_t vq = c->current_ctrl.pi_q.integ / 32768 + ((on_d != 0u) ? 0 : dv);
+    c->v_dq.d = (q15_t)((vd > v_max) ? v_max : (vd < -v_max) ? -v_max : vd);
+    c->v_dq.q = (q15_t)((vq > v_max) ? v_max : (vq < -v_max) ? -v_max : vq);
 }
 
 /* 1 while the inductance probe drives the d voltage (its periods
@@ -302,7 +318,8 @@ static void current_loop(foc_ctrl_t *c, uint8_t frame)
      * by FOC_IREF_STEP_BITS per period on the estimated angle: a torque
      * reversal spread over a slow tick does not make the current loop
      * overshoot. */
-    const uint8_t probing = (uint8_t)(frame != FRAME_ESTIMATE && lprobe_running(c));
+    const uint8_t probing =
+        (uint8_t)(frame != FRAME_ESTIMATE && (frame == FRAME_PULSE || lprobe_running(c)));
     foc_dq_t step = zero_dq; /* the references' steps, for the current PIs */
     if (probing == 0u) { /* (held in the probe: it measures from them) */
         step.d = (q15_t)FOC_SAT_BITS((int32_t)c->i_ref.d - c->i_ref_slewed.d, FOC_IREF_STEP_BITS);
@@ -343,7 +360,11 @@ static void current_loop(foc_ctrl_t *c, uint8_t frame)
     /* d first, with the whole voltage: AN1292's d-axis priority */
     const q15_t v_max = c->bus.v_max;
     if (probing != 0u) {
-        l_probe(c, frame, v_max);
+        if (frame == FRAME_PULSE) {
+            comm_pulse(c, v_max);
+        } else {
+            l_probe(c, frame, v_max);
+        }
     } else {
         c->v_dq.d = foc_cc_d_axis(&c->current_ctrl, c->i_ref_slewed.d, c->i_dq.d, v_max, step.d);
     }
@@ -355,33 +376,9 @@ static void current_loop(foc_ctrl_t *c, uint8_t frame)
         /* the q swing current may use what the d current leaves */
         c->v_dq.q = foc_cc_q_forced(&c->current_ctrl, forced_vq(c->startup.speed, c->i_ref_slewed.d), c->i_dq.q,
                                     c->forced_iq_max, c->v_dq.d, v_max, c->est.speed);
-    } /* FRAME_PROBE: the q voltage held */
+    } /* FRAME_PROBE: the q voltage held; FRAME_PULSE: comm_pulse's */
 
     apply_voltage(c, foc_sincos_sum(sc, c->advance_sc));
-}
-
-/* COMMISSION's inductance pulses (commission.h): both current PIs held,
- * their integrators' voltages applied on the standing forced frame, plus
- * foc_comm_pulse's square wave on the pulsed axis (d: `on_d`), within
- * +-v_max. */
-FOC_COLD static void commission_pulse(foc_ctrl_t *c, uint8_t on_d)
-{
-    c->i_ab = foc_cs_read(&c->current_sense, &c->samples, c->i_ab);
-    if (current_lost(c->i_ab) != 0u) {
-        trip(c, (uint16_t)FOC_FAULT_OVERCURRENT);
-        return;
-    }
-    const foc_sincos_t sc = foc_sincos_q15(foc_startup_angle(&c->startup));
-    c->i_dq = foc_park_q15(c->i_ab, sc);
-    const q15_t dv = (on_d != 0u) ? foc_comm_pulse(&c->comm, c->i_dq.d, c->i_ref_slewed.d)
-                                  : foc_comm_pulse(&c->comm, c->i_dq.q, c->i_ref_slewed.q);
-    const q15_t v_max = c->bus.v_max;
-    const int32_t vd = c->current_ctrl.pi_d.integ / 32768 + ((on_d != 0u) ? dv : 0);
-    const int32_t vq = c->current_ctrl.pi_q.integ / 32768 + ((on_d != 0u) ? 0 : dv);
-    c->v_dq.d = (q15_t)((vd > v_max) ? v_max : (vd < -v_max) ? -v_max : vd);
-    c->v_dq.q = (q15_t)((vq > v_max) ? v_max : (vq < -v_max) ? -v_max : vq);
-    c->v_ab_prev = c->v_ab;
-    apply_voltage(c, sc);
 }
 
 /* COMMISSION's period: the offsets' sums with the bridge off, the pulses,
@@ -399,7 +396,7 @@ FOC_COLD static void commission_fast(foc_ctrl_t *c)
     if (mode == (uint8_t)FOC_COMM_MODE_OFF) {
         foc_cs_calib_add(&c->current_sense, &c->samples);
     } else if (mode == (uint8_t)FOC_COMM_MODE_PULSE_D || mode == (uint8_t)FOC_COMM_MODE_PULSE_Q) {
-        commission_pulse(c, (uint8_t)(mode == (uint8_t)FOC_COMM_MODE_PULSE_D));
+        current_loop(c, FRAME_PULSE);
     } else if (mode == (uint8_t)FOC_COMM_MODE_SPIN || mode == (uint8_t)FOC_COMM_MODE_SPIN_SUM) {
         const foc_ab_t i_last = c->i_ab;
         const foc_ab_t v_prev = c->v_ab_prev;

@@ -1107,10 +1107,10 @@ FOC_STATIC_ASSERT(OVERSPEED_MARGIN > 0.0 &&
                   "OVERSPEED_MARGIN must be > 0 with (1 + margin) x max speed below "
                   "SPEED_BASE_RPM");
 FOC_STATIC_ASSERT(FOC_RAMP_DOWN_TICKS < 65000, "SPEED_RAMP_RPM_PER_S too slow");
-FOC_STATIC_ASSERT(FOC_COMM_RS_Q20 > 0 && FOC_RS_PU < 2000.0 &&
+FOC_STATIC_ASSERT(FOC_COMM_RS_Q20 > 0 && FOC_RS_PU < 1000.0 &&
                   FOC_WE_BASE_RAD_S * MOTOR_LQ_H * FOC_I_BASE_A / FOC_V_BASE_V < 2000.0 &&
                   FOC_WE_BASE_RAD_S * MOTOR_LD_H * FOC_I_BASE_A / FOC_V_BASE_V < 2000.0,
-                  "commissioning: Rs or the reactance beyond 2000 per-unit (commission.c)");
+                  "commissioning: Rs beyond 1000 or a reactance beyond 2000 per-unit (commission.c)");
 FOC_STATIC_ASSERT(FOC_COMM_TS_TAU_D_Q20 < 1048576 && FOC_COMM_TS_TAU_Q_Q20 < 1048576,
                   "commissioning: L / Rs shorter than a PWM period");
 FOC_STATIC_ASSERT(FOC_COMM_PULSE_DV_D > 0 && FOC_COMM_PULSE_DV_Q > 0 &&
