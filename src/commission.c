@@ -227,35 +227,24 @@ static uint8_t offsets_ok(const foc_abc_t *o)
                      foc_abs_q15(o->c) <= FOC_COMM_OFFSET_MAX);
 }
 
-/* The d current held for the electrical settling, then summed: 1 once
- * the fast step's sums are complete. */
-static uint8_t held_and_summed(foc_comm_t *m)
+/* The waiting mode (HOLD, SPIN) for `settle` ticks of the step, then
+ * `measure` until the fast step's sums are complete: 1 then. */
+static uint8_t measured(foc_comm_t *m, uint16_t settle, foc_comm_mode_t measure)
 {
-    if (m->mode == (uint8_t)FOC_COMM_MODE_HOLD) {
-        if (m->ticks >= FOC_COMM_SETTLE_TICKS) {
-            m->mode = (uint8_t)FOC_COMM_MODE_SUM;
-        }
+    if (m->ticks < settle) {
         return 0;
     }
-    return (uint8_t)(m->fast_mode == m->mode && m->count >= FOC_COMM_SUM_N);
-}
-
-/* The same for a pulse train on one axis. */
-static uint8_t held_and_pulsed(foc_comm_t *m, foc_comm_mode_t pulse)
-{
-    if (m->mode == (uint8_t)FOC_COMM_MODE_HOLD) {
-        if (m->ticks >= FOC_COMM_SETTLE_TICKS) {
-            m->mode = (uint8_t)pulse;
-        }
-        return 0;
-    }
-    return (uint8_t)(m->fast_mode == m->mode && m->count >= FOC_COMM_PULSE_CYCLES);
+    m->mode = (uint8_t)measure;
+    const uint16_t target = (measure == FOC_COMM_MODE_PULSE_D || measure == FOC_COMM_MODE_PULSE_Q)
+                                ? FOC_COMM_PULSE_CYCLES
+                                : FOC_COMM_SUM_N;
+    return (uint8_t)(m->fast_mode == m->mode && m->count >= target);
 }
 
 static foc_comm_status_t rs_tick(foc_comm_t *m, foc_startup_t *su)
 {
     su->current = (m->level == 0u) ? FOC_COMM_I_HIGH : FOC_COMM_I_LOW;
-    if (held_and_summed(m) == 0u) {
+    if (measured(m, FOC_COMM_SETTLE_TICKS, FOC_COMM_MODE_SUM) == 0u) {
         return FOC_COMM_BUSY;
     }
     if (m->level == 0u) {
@@ -291,7 +280,7 @@ static foc_comm_status_t inductance_tick(foc_comm_t *m, foc_startup_t *su)
 {
     const uint8_t d = (uint8_t)(m->step == (uint8_t)FOC_COMM_STEP_LD);
     su->current = FOC_COMM_I_LOW;
-    if (held_and_pulsed(m, d ? FOC_COMM_MODE_PULSE_D : FOC_COMM_MODE_PULSE_Q) == 0u) {
+    if (measured(m, FOC_COMM_SETTLE_TICKS, d ? FOC_COMM_MODE_PULSE_D : FOC_COMM_MODE_PULSE_Q) == 0u) {
         return FOC_COMM_BUSY;
     }
     const int32_t r = d ? inductance_q14(m, FOC_COMM_PULSE_SUM_D, FOC_COMM_TS_TAU_D_Q20)
@@ -315,7 +304,7 @@ static foc_comm_status_t inductance_tick(foc_comm_t *m, foc_startup_t *su)
     return FOC_COMM_BUSY;
 }
 
-/* FLUX: level 0 the ramp, 1 the swing settling, 2 the sums. */
+/* FLUX: level 0 the ramp, 1 the swing settling, then the sums. */
 static foc_comm_status_t flux_tick(foc_comm_t *m, foc_startup_t *su)
 {
     foc_startup_ramp_tick(su, FOC_COMM_SPIN_SPEED);
@@ -326,14 +315,7 @@ static foc_comm_status_t flux_tick(foc_comm_t *m, foc_startup_t *su)
         }
         return FOC_COMM_BUSY;
     }
-    if (m->level == 1u) {
-        if (m->ticks >= FOC_COMM_SPIN_SETTLE_TICKS) {
-            m->level = 2;
-            m->mode = (uint8_t)FOC_COMM_MODE_SPIN_SUM;
-        }
-        return FOC_COMM_BUSY;
-    }
-    if (m->fast_mode != m->mode || m->count < FOC_COMM_SUM_N) {
+    if (measured(m, FOC_COMM_SPIN_SETTLE_TICKS, FOC_COMM_MODE_SPIN_SUM) == 0u) {
         return FOC_COMM_BUSY;
     }
     /* a rotor that does not follow shows (almost) no back-EMF */

@@ -382,14 +382,13 @@ static void current_loop(foc_ctrl_t *c, uint8_t frame)
 }
 
 /* COMMISSION's period: the offsets' sums with the bridge off, the pulses,
- * or the forced-frame current loop and the sums.  At standstill the
- * voltage summed is the command (the d PI's: Rs from two levels cancels
- * the bridge's errors); in the spin it is the voltage the bridge applied
- * in the period that just ended, dead time included (the current's angle
- * in the forced frame is not the reference's, so the compensation, made
- * for the reference, leaves an error: 1 V of the Hurst075's 2 V of
- * back-EMF at half flux), turned into the forced frame at that period's
- * middle. */
+ * or the forced-frame current loop and the sums.  The voltage summed is
+ * the one the bridge applied in the period that just ended, dead time
+ * included (in the spin the current's angle in the forced frame is not
+ * the reference's, so the compensation, made for the reference, leaves
+ * an error: 1 V of the Hurst075's 2 V of back-EMF at half flux), turned
+ * into the forced frame at that period's middle; at standstill what the
+ * bridge model misses is the same at Rs's two levels and cancels. */
 FOC_COLD static void commission_fast(foc_ctrl_t *c)
 {
     const uint8_t mode = c->comm.mode;
@@ -397,7 +396,7 @@ FOC_COLD static void commission_fast(foc_ctrl_t *c)
         foc_cs_calib_add(&c->current_sense, &c->samples);
     } else if (mode == (uint8_t)FOC_COMM_MODE_PULSE_D || mode == (uint8_t)FOC_COMM_MODE_PULSE_Q) {
         current_loop(c, FRAME_PULSE);
-    } else if (mode == (uint8_t)FOC_COMM_MODE_SPIN || mode == (uint8_t)FOC_COMM_MODE_SPIN_SUM) {
+    } else {
         const foc_ab_t i_last = c->i_ab;
         const foc_ab_t v_prev = c->v_ab_prev;
         const foc_ab_t v_last = c->v_ab;
@@ -407,9 +406,6 @@ FOC_COLD static void commission_fast(foc_ctrl_t *c)
         const uint16_t mid = (uint16_t)(before + (uint16_t)(foc_startup_angle(&c->startup) - before) / 2u);
         const foc_ab_t v = applied_voltage(c, v_prev, v_last, i_last, c->i_ab);
         foc_comm_sum(&c->comm, foc_park_q15(v, foc_sincos_q15(mid)), c->i_dq);
-    } else {
-        current_loop(c, FRAME_FORCED);
-        foc_comm_sum(&c->comm, c->v_dq, c->i_dq);
     }
 }
 

@@ -71,7 +71,9 @@ typedef enum {
 typedef struct {
     uint8_t step;        /* [slow] foc_comm_step_t */
     uint8_t mode;        /* [slow] foc_comm_mode_t */
-    uint8_t level;       /* [slow] RS: 0 the high current, 1 the low */
+    uint8_t level;       /* [slow] RS: 0 the high current, 1 the low; */
+                         /* ALIGN, FLUX: 0 the start-up's part, 1 the */
+                         /* rotor settling */
     uint8_t failed_step; /* [slow] foc_comm_step_t that failed, 0 none */
     uint8_t valid;       /* [slow] 1: the results below are measured */
     uint8_t fast_mode;   /* [fast] the mode its sums belong to */
