@@ -82,12 +82,10 @@ FOC_COLD q15_t foc_comm_pulse(foc_comm_t *m, q15_t i_axis, q15_t i_hold)
     const int32_t k = m->phase;
     const int32_t n = FOC_COMM_PULSE_N;
     if (m->cycles >= 2u && m->count < FOC_COMM_PULSE_CYCLES) {
-        /* window: samples 3 .. N-1 of each half */
-        const int32_t dev = (int32_t)i_axis - i_hold;
-        if (k >= 3 && k < n) {
-            pulse_add(m, k - 3, dev, 1);
-        } else if (k >= n + 3) {
-            pulse_add(m, k - n - 3, dev, -1);
+        /* window: samples 3 .. N-1 of each half, + then - */
+        const int32_t j = (k < n) ? k - 3 : k - n - 3;
+        if (j >= 0) {
+            pulse_add(m, j, (int32_t)i_axis - i_hold, (k < n) ? 1 : -1);
         }
     }
     if (k + 1 >= 2 * n) {
