@@ -134,7 +134,7 @@ FOC_COLD static int32_t div_frac(int32_t num, int32_t den, uint8_t bits, int32_t
 /* Q14 ratio num / den, 0 .. RATIO_MAX_Q14 + 1 (beyond: implausible). */
 static int32_t ratio_q14(int32_t num, int32_t den)
 {
-    return div_frac(num, den, 14, RATIO_MAX_Q14 + 1);
+    return div_frac(num, den, 14, (int32_t)RATIO_MAX_Q14 + 1);
 }
 
 static uint8_t plausible(int32_t r)
