@@ -131,6 +131,13 @@ FOC_COLD static int32_t div_frac(int32_t num, int32_t den, uint8_t bits, int32_t
     return (q > (uint32_t)max) ? max : (int32_t)q;
 }
 
+/* (a x b) / 2^shift, the product in 64 bits; the callers state that the
+ * result fits 32 bits (an arithmetic shift: floor, as GCC and XC16 do). */
+FOC_COLD static int32_t mul_shift(int32_t a, int32_t b, uint8_t shift)
+{
+    return (int32_t)(((int64_t)a * b) >> shift);
+}
+
 /* Q14 ratio num / den, 0 .. RATIO_MAX_Q14 + 1 (beyond: implausible). */
 static int32_t ratio_q14(int32_t num, int32_t den)
 {
@@ -157,7 +164,7 @@ FOC_COLD static int32_t inductance_q14(const foc_comm_t *m, int32_t sum_param, i
     /* Ts Rs / L_param (Q20, < 2^20) x the Rs ratio (Q14, < 2^15): Q20
      * below 2^21; times sum[1] x 8 (|sum[1]| < 2^31) in a 64-bit product,
      * < 2^55, back to the regression sum's scale by 2^20 */
-    const int64_t rs_share = ((((int64_t)ts_tau_q20 * m->rs_q14) >> 14) * m->sum[1] * 8) >> 20;
+    const int64_t rs_share = ((int64_t)mul_shift(ts_tau_q20, m->rs_q14, 14) * m->sum[1] * 8) >> 20;
     const int64_t num = (int64_t)sum_param - rs_share; /* sum_param < 2^29 */
     return ratio_q14((num > INT32_MAX) ? INT32_MAX : (int32_t)num, m->sum[0]);
 }
@@ -172,18 +179,21 @@ static int32_t sat_q15(int32_t x)
  * lies on the rotor's q axis; the rotor's d current is I's component
  * along E turned back 90 deg; psi = |E| / w - (Ld - Lq) id_rotor, against
  * the parameter's w_base psi / V_base (FOC_COMM_KE_Q15).  Per-unit
- * reactances in Q20 (each below 2^31: config.h). */
+ * reactances in Q20 (each below 2^30: config.h). */
 FOC_COLD static int32_t flux_q14(const foc_comm_t *m, q15_t speed)
 {
     const int32_t vx = mean_q15(m->sum[0]);
     const int32_t vy = mean_q15(m->sum[1]);
     const int32_t ix = mean_q15(m->sum[2]);
     const int32_t iy = mean_q15(m->sum[3]);
-    const int64_t rs_q20 = ((int64_t)FOC_COMM_RS_Q20 * m->rs_q14) >> 14;
-    /* w Lq at this speed, Q20 per-unit */
-    const int64_t xq_q20 = ((((int64_t)FOC_COMM_XQ_Q20 * speed) >> 15) * m->lq_q14) >> 14;
-    const int32_t ex = sat_q15(vx - (int32_t)((rs_q20 * ix) >> 20) + (int32_t)((xq_q20 * iy) >> 20));
-    const int32_t ey = sat_q15(vy - (int32_t)((rs_q20 * iy) >> 20) - (int32_t)((xq_q20 * ix) >> 20));
+    /* the measured Rs and w Lq at this speed, Q20 per-unit, each below
+     * 2^31: the parameters below 1000 per-unit (config.h), the ratios
+     * below 2, the speed below 1 */
+    const int32_t rs_q20 = mul_shift(FOC_COMM_RS_Q20, m->rs_q14, 14);
+    const int32_t xq_q20 = mul_shift(mul_shift(FOC_COMM_XQ_Q20, speed, 15), m->lq_q14, 14);
+    /* each term below 2^31 x 2^15 / 2^20 = 2^26 */
+    const int32_t ex = sat_q15(vx - mul_shift(rs_q20, ix, 20) + mul_shift(xq_q20, iy, 20));
+    const int32_t ey = sat_q15(vy - mul_shift(rs_q20, iy, 20) - mul_shift(xq_q20, ix, 20));
     /* each square below 2^30: the sum fits 32 bits unsigned */
     const int32_t e = (int32_t)foc_isqrt32((uint32_t)(ex * ex) + (uint32_t)(ey * ey));
     if (e <= 0 || speed <= 0) {
@@ -192,11 +202,10 @@ FOC_COLD static int32_t flux_q14(const foc_comm_t *m, q15_t speed)
     /* |ex|, |ey| <= 32767 and |ix|, |iy| <= 32768: the cross product is
      * below 2^31; id_rotor Q15, |id_rotor| <= |I| < 2^16 */
     const int32_t id_rotor = ((int32_t)ix * ey - (int32_t)iy * ex) / e;
-    /* (Xd Ld_ratio - Xq Lq_ratio), Q20, |.| < 2^33 (reactances < 2^31,
-     * ratios < 2): its product with id_rotor in 64 bits, back to Q15
-     * below 2^29 */
-    const int64_t xdq_q20 = ((int64_t)FOC_COMM_XD_Q20 * m->ld_q14 - (int64_t)FOC_COMM_XQ_Q20 * m->lq_q14) >> 14;
-    const int32_t reluctance_q15 = (int32_t)((xdq_q20 * id_rotor) >> 20);
+    /* Xd Ld_ratio - Xq Lq_ratio, Q20: both terms in [0, 2^31), so is
+     * the difference's magnitude; times id_rotor (< 2^16) / 2^20: < 2^27 */
+    const int32_t xdq_q20 = mul_shift(FOC_COMM_XD_Q20, m->ld_q14, 14) - mul_shift(FOC_COMM_XQ_Q20, m->lq_q14, 14);
+    const int32_t reluctance_q15 = mul_shift(xdq_q20, id_rotor, 20);
     /* |E| / w, Q15 per-unit flux, held below 2^30: the difference fits */
     const int32_t psi_q15 = div_frac(e, speed, 15, 1073741823) - reluctance_q15;
     return ratio_q14(psi_q15, FOC_COMM_KE_Q15);

@@ -762,7 +762,7 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
 #define FOC_COMM_STEP_TIMEOUT_TICKS FOC_TICKS(2.0 * STARTUP_TIMEOUT_S + 1.0)
 /* A calibrated offset beyond 1/8 of the full scale is a broken sensor. */
 #define FOC_COMM_OFFSET_MAX ((q15_t)4096)
-/* The parameters in per-unit, scaled by 2^20 (each below 2^11): Rs, the
+/* The parameters in per-unit, scaled by 2^20 (each below 2^30): Rs, the
  * reactances at the speed base, the back-EMF per speed base (Q15). */
 #define FOC_COMM_RS_Q20 ((int32_t)(FOC_RS_PU * 1048576.0 + 0.5))
 #define FOC_COMM_XD_Q20 ((int32_t)(FOC_WE_BASE_RAD_S * MOTOR_LD_H * FOC_I_BASE_A / FOC_V_BASE_V * 1048576.0 + 0.5))
@@ -1108,9 +1108,9 @@ FOC_STATIC_ASSERT(OVERSPEED_MARGIN > 0.0 &&
                   "SPEED_BASE_RPM");
 FOC_STATIC_ASSERT(FOC_RAMP_DOWN_TICKS < 65000, "SPEED_RAMP_RPM_PER_S too slow");
 FOC_STATIC_ASSERT(FOC_COMM_RS_Q20 > 0 && FOC_RS_PU < 1000.0 &&
-                  FOC_WE_BASE_RAD_S * MOTOR_LQ_H * FOC_I_BASE_A / FOC_V_BASE_V < 2000.0 &&
-                  FOC_WE_BASE_RAD_S * MOTOR_LD_H * FOC_I_BASE_A / FOC_V_BASE_V < 2000.0,
-                  "commissioning: Rs beyond 1000 or a reactance beyond 2000 per-unit (commission.c)");
+                  FOC_WE_BASE_RAD_S * MOTOR_LQ_H * FOC_I_BASE_A / FOC_V_BASE_V < 1000.0 &&
+                  FOC_WE_BASE_RAD_S * MOTOR_LD_H * FOC_I_BASE_A / FOC_V_BASE_V < 1000.0,
+                  "commissioning: Rs or a reactance beyond 1000 per-unit (commission.c)");
 FOC_STATIC_ASSERT(FOC_COMM_TS_TAU_D_Q20 < 1048576 && FOC_COMM_TS_TAU_Q_Q20 < 1048576,
                   "commissioning: L / Rs shorter than a PWM period");
 FOC_STATIC_ASSERT(FOC_COMM_PULSE_DV_D > 0 && FOC_COMM_PULSE_DV_Q > 0 &&
