@@ -345,7 +345,7 @@ typedef struct {
 /* CMSIS-Core functions the port uses, same names and behaviour. */
 static inline void NVIC_EnableIRQ(IRQn_Type irq)
 {
-    NVIC->ISER[(uint32_t)irq >> 5] = 1ul << ((uint32_t)irq & 0x1Fu);
+    NVIC->ISER[(uint32_t)irq >> 5] = (uint32_t)1u << ((uint32_t)irq & 0x1Fu);
 }
 
 static inline void NVIC_SetPriority(IRQn_Type irq, uint32_t priority)
