@@ -850,6 +850,16 @@ static q15_t salient_id(const foc_ctrl_t *c, q15_t id_fw, q15_t iq)
     return (id_mtpa < id_fw) ? id_mtpa : id_fw;
 }
 
+/* The d reference in RUN: field weakening's (or MTPA's) plus the hand-over's
+ * fading share, held within the current limit (the two together reached
+ * 1.15 x the limit: tests/fuzz/findings/run_id_beyond_limit). */
+static q15_t run_id(const foc_ctrl_t *c, q15_t id_fw, q15_t iq)
+{
+    const q15_t id = foc_add_q15(salient_id(c, id_fw, iq), c->handover_id);
+    return (id < -FOC_CURRENT_LIMIT) ? (q15_t)-FOC_CURRENT_LIMIT
+           : (id > FOC_CURRENT_LIMIT) ? FOC_CURRENT_LIMIT : id;
+}
+
 /* Field weakening first (Id takes its share of the current limit, plus the
  * hand-over current fading out), then the speed PI within what is left.
  * A salient rotor's MTPA d current follows the speed PI's q current: the
@@ -864,7 +874,7 @@ static void speed_loop(foc_ctrl_t *c, q15_t target)
     const q15_t v_mag = foc_mag_q15(c->v_dq.d, c->v_dq.q);
     const q15_t id_fw = foc_fw_step(&c->fw, c->speed_ctrl.ramped, v_mag, c->bus.v_max);
     c->handover_id = foc_slew_q15(c->handover_id, 0, FOC_HANDOVER_ID_STEP);
-    c->i_ref.d = foc_add_q15(salient_id(c, id_fw, c->i_ref.q), c->handover_id);
+    c->i_ref.d = run_id(c, id_fw, c->i_ref.q);
     foc_est_set_fw(&c->est, c->fw.inv_kfi, c->fw.ls_scale);
     /* Out of voltage (within 1/64 of the limit) with field weakening
      * giving all it has (or off): no faster than now, and say so. */
@@ -877,7 +887,7 @@ static void speed_loop(foc_ctrl_t *c, q15_t target)
     }
     c->i_ref.q = foc_sc_step(&c->speed_ctrl, c->est.speed, c->i_ref.d);
     if (FOC_SALIENT && c->fw.mtpa != 0u) {
-        c->i_ref.d = foc_add_q15(salient_id(c, id_fw, c->i_ref.q), c->handover_id);
+        c->i_ref.d = run_id(c, id_fw, c->i_ref.q);
         const q15_t iq_max = foc_sc_iq_limit(c->i_ref.d);
         c->i_ref.q = (c->i_ref.q > iq_max) ? iq_max
                      : (c->i_ref.q < -iq_max) ? (q15_t)-iq_max : c->i_ref.q;

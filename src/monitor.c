@@ -372,7 +372,7 @@ typedef struct {
     uint8_t measured;  /* IDENT_* */
 } ident_row_t;
 
-#define IDENT_ROW(key, x, decimals, factor, measured) { key, (int64_t)((x) * (factor) + 0.5), decimals, measured }
+#define IDENT_ROW(key, x, decimals, factor, measured) { (key), (int64_t)((x) * (factor) + 0.5), (decimals), (measured) }
 
 static const ident_row_t ident_rows[] = {
     IDENT_ROW("pole_pairs", MOTOR_POLE_PAIRS, 0u, 1.0, IDENT_NONE),
