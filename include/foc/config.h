@@ -758,8 +758,12 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
 #define FOC_COMM_SPIN_SPEED FOC_SPEED_Q15(FOC_COMM_SPIN_RPM)
 #define FOC_COMM_SPIN_SETTLE_TICKS FOC_TICKS(0.3)
 /* A step that has not ended in this time failed: the start-up's timeout,
- * twice, plus a second. */
-#define FOC_COMM_STEP_TIMEOUT_TICKS FOC_TICKS(2.0 * STARTUP_TIMEOUT_S + 1.0)
+ * twice, plus a second, at most 65000 slow ticks (the counter is 16-bit:
+ * the fan's 47 s are 94000 ticks, which the conversion cannot hold). */
+#define FOC_COMM_STEP_TIMEOUT_S (2.0 * STARTUP_TIMEOUT_S + 1.0)
+#define FOC_COMM_STEP_TIMEOUT_TICKS                                            \
+    FOC_TICKS(FOC_COMM_STEP_TIMEOUT_S < 65000.0 * FOC_SLOW_TS_S ? FOC_COMM_STEP_TIMEOUT_S \
+                                                                 : 65000.0 * FOC_SLOW_TS_S)
 /* A calibrated offset beyond 1/8 of the full scale is a broken sensor. */
 #define FOC_COMM_OFFSET_MAX ((q15_t)4096)
 /* The parameters in per-unit, scaled by 2^20 (each below 2^30): Rs, the
