@@ -355,7 +355,7 @@ check:
 	echo "make check: all passed"
 
 check-sanitize:
-	cmake -S . -B $(SAN_BUILD) $(CMAKE_ARGS) -DFOC_SANITIZE=ON
+	cmake -S . -B $(SAN_BUILD) $(CMAKE_ARGS) -DFOC_SANITIZE=ON -DCMAKE_C_COMPILER=clang
 	cmake --build $(SAN_BUILD) -j $(JOBS)
 	UBSAN_OPTIONS=print_stacktrace=1 ctest --test-dir $(SAN_BUILD) \
 	    --output-on-failure -j $(JOBS)
