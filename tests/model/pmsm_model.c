@@ -523,14 +523,14 @@ static electrical_t electrical(const integ_t *c, const discrete_mode_t *dm,
                                const double x[X_COUNT])
 {
     const pmsm_model_t *m = c->m;
+    if (m->bridge == PMSM_BRIDGE_PWM) {
+        return electrical_pwm(c, x);
+    }
     const pmsm_params_t *p = &m->p;
     const double id = x[X_ID];
     const double iq = x[X_IQ];
     const double we = p->pole_pairs * x[X_WM];
     const double vdc = x[X_VDC];
-    if (m->bridge == PMSM_BRIDGE_PWM) {
-        return electrical_pwm(c, x);
-    }
     double co;
     double si;
     integ_cos_sin(c, x[X_THETA], &co, &si);
