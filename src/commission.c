@@ -26,6 +26,9 @@ void foc_comm_begin(foc_comm_t *m)
     m->ld_q14 = 0;
     m->lq_q14 = 0;
     m->flux_q14 = 0;
+    m->j_q12 = 0;
+    m->u.friction_i.low = 0;
+    m->u.friction_i.high = 0;
 }
 
 /* ------------------------------------------------------------ per period */
@@ -259,21 +262,21 @@ static foc_comm_status_t rs_tick(foc_comm_t *m, foc_startup_t *su)
         if (mean_q15(m->sum[2]) < (FOC_COMM_I_HIGH / 4) * 3) {
             return fail(m);
         }
-        m->rs_v_high = m->sum[0];
-        m->rs_i_high = m->sum[2];
+        m->u.rs.v_high = m->sum[0];
+        m->u.rs.i_high = m->sum[2];
         m->level = 1;
         m->ticks = 0;
         m->mode = (uint8_t)FOC_COMM_MODE_HOLD;
         return FOC_COMM_BUSY;
     }
-    const int32_t di = m->rs_i_high - m->sum[2];
+    const int32_t di = m->u.rs.i_high - m->sum[2];
     /* the two levels' currents at least a quarter of the high one apart */
     if (mean_q15(di) < FOC_COMM_I_HIGH / 4) {
         return fail(m);
     }
     /* Rs per-unit, Q20 (< 2^31 while within 2 x the parameter: config.h
      * holds FOC_RS_PU below 1000), then its ratio to the parameter */
-    const int32_t rs_q20 = div_frac(m->rs_v_high - m->sum[0], di, 20, INT32_MAX);
+    const int32_t rs_q20 = div_frac(m->u.rs.v_high - m->sum[0], di, 20, INT32_MAX);
     const int32_t r = ratio_q14(rs_q20, FOC_COMM_RS_Q20);
     if (plausible(r) == 0u) {
         return fail(m);
@@ -311,6 +314,12 @@ static foc_comm_status_t inductance_tick(foc_comm_t *m, foc_startup_t *su)
     return FOC_COMM_BUSY;
 }
 
+/* A measured ratio within FOC_COMM_MECH_MATCH of the parameter (Q14). */
+static uint8_t near_parameter(int32_t r)
+{
+    return (uint8_t)(r >= FOC_COMM_MECH_MATCH_MIN_Q14 && r <= FOC_COMM_MECH_MATCH_MAX_Q14);
+}
+
 /* FLUX: level 0 the ramp, 1 the swing settling, then the sums. */
 static foc_comm_status_t flux_tick(foc_comm_t *m, foc_startup_t *su)
 {
@@ -331,9 +340,15 @@ static foc_comm_status_t flux_tick(foc_comm_t *m, foc_startup_t *su)
         return fail(m);
     }
     m->flux_q14 = (q15_t)r;
-    m->mode = (uint8_t)FOC_COMM_MODE_OFF;
     m->valid = 1;
-    return FOC_COMM_DONE;
+    if (near_parameter(r) == 0u || near_parameter(m->ld_q14) == 0u || near_parameter(m->lq_q14) == 0u) {
+        m->mode = (uint8_t)FOC_COMM_MODE_OFF;
+        return FOC_COMM_DONE;
+    }
+    next_step(m, FOC_COMM_STEP_MECH, FOC_COMM_MODE_OFF);
+    m->iq_block = 0; /* a full block: MECH's first tick takes it (unused) */
+    m->count = (uint16_t)CONTROL_SLOW_DIVIDER;
+    return FOC_COMM_HANDOVER;
 }
 
 FOC_COLD foc_comm_status_t foc_comm_tick(foc_comm_t *m, foc_startup_t *su, const foc_comm_in_t *in)
@@ -382,8 +397,92 @@ FOC_COLD foc_comm_status_t foc_comm_tick(foc_comm_t *m, foc_startup_t *su, const
     }
 }
 
+/* MECH's levels: each ends after its ticks (the windows' sums start at
+ * the speed step, the friction's once settled). */
+#define MECH_SETTLE 0u      /* to the low speed: a window's time */
+#define MECH_LOW 1u         /* the friction at the low speed */
+#define MECH_UP 2u          /* the window up */
+#define MECH_HIGH 3u        /* the friction at the high speed */
+#define MECH_DOWN 4u        /* the window down */
+
+/* J / MOTOR_INERTIA_KGM2 (Q12) from the sums: X = A_up - A_down - s
+ * (W_up - W_down) with the friction's slope s = (i_high - i_low) / dw in
+ * Q24 (|i| < 2^15, dw > 2^8: s < 2^31), times the measured flux's share
+ * of Kt, against FOC_COMM_MECH_J_SUM.  In 64 bits: a q current near its
+ * limit in both windows would not fit 32 (the result is then refused). */
+FOC_COLD static int32_t inertia_q12(const foc_comm_t *m)
+{
+    const int32_t slope_q24 = mul_shift(m->u.friction_i.high - m->u.friction_i.low, FOC_COMM_MECH_INV_DW_Q24,
+                                        FOC_COMM_MECH_SUM_LOG2);
+    const int64_t x = (int64_t)m->sum[0] - m->sum[2] -
+                      (((int64_t)slope_q24 * ((int64_t)m->sum[1] - m->sum[3])) >> 24);
+    const int64_t kt_x = (x * m->flux_q14) >> 14;
+    const int32_t num = (kt_x > INT32_MAX) ? INT32_MAX : (kt_x < 0) ? 0 : (int32_t)kt_x;
+    return div_frac(num, FOC_COMM_MECH_J_SUM, 12, 32768);
+}
+
+FOC_COLD q15_t foc_comm_mech_tick(foc_comm_t *m, q15_t speed)
+{
+    const uint8_t level = m->level;
+    if (m->count < (uint16_t)CONTROL_SLOW_DIVIDER) {
+        /* the fast step's block is not complete: a tick that counts not */
+        return (level == MECH_UP || level == MECH_HIGH) ? FOC_COMM_MECH_HIGH : FOC_COMM_MECH_LOW;
+    }
+    /* the block's mean, rounded (the noise dithers the rounding) */
+    const int32_t half = (m->iq_block < 0) ? -(int32_t)(CONTROL_SLOW_DIVIDER / 2) : (int32_t)(CONTROL_SLOW_DIVIDER / 2);
+    const q15_t iq = (q15_t)((m->iq_block + half) / (int32_t)CONTROL_SLOW_DIVIDER);
+    m->iq_block = 0;
+    m->count = 0; /* last: the fast step sums again */
+    const uint16_t length = (level == MECH_LOW || level == MECH_HIGH) ? FOC_COMM_MECH_SUM_N
+                                                                      : (uint16_t)FOC_COMM_MECH_WINDOW_TICKS;
+    if (m->ticks == 0u) {
+        if (level == MECH_UP || level == MECH_DOWN) {
+            m->sum[(level == MECH_DOWN) ? 2 : 0] = 0;
+            m->sum[(level == MECH_DOWN) ? 3 : 1] = 0;
+        } else if (level == MECH_LOW) {
+            m->u.friction_i.low = 0;
+        } else if (level == MECH_HIGH) {
+            m->u.friction_i.high = 0;
+        }
+    }
+    /* the sums: |iq|, |speed| < 2^15 over at most 2^15 ticks */
+    switch (level) {
+    case MECH_LOW:
+        m->u.friction_i.low += iq;
+        break;
+    case MECH_UP:
+        m->sum[0] += iq;
+        m->sum[1] += speed;
+        break;
+    case MECH_HIGH:
+        m->u.friction_i.high += iq;
+        break;
+    case MECH_DOWN:
+        m->sum[2] += iq;
+        m->sum[3] += speed;
+        break;
+    default:
+        break;
+    }
+    m->ticks++;
+    if (m->ticks >= length) {
+        m->ticks = 0;
+        m->level = (uint8_t)(level + 1u);
+        if (level == MECH_DOWN) {
+            const int32_t j = inertia_q12(m);
+            m->step = (uint8_t)FOC_COMM_STEP_NONE;
+            if (j >= 256 && j <= 32767) {
+                m->j_q12 = (q15_t)j;
+            } else {
+                m->failed_step = (uint8_t)FOC_COMM_STEP_MECH;
+            }
+        }
+    }
+    return (m->level == MECH_UP || m->level == MECH_HIGH) ? FOC_COMM_MECH_HIGH : FOC_COMM_MECH_LOW;
+}
+
 const char *foc_comm_step_name(uint8_t step)
 {
-    static const char *const names[] = { "NONE", "OFFSETS", "ALIGN", "RS", "LD", "LQ", "FLUX" };
+    static const char *const names[] = { "NONE", "OFFSETS", "ALIGN", "RS", "LD", "LQ", "FLUX", "MECH" };
     return (step < sizeof names / sizeof names[0]) ? names[step] : "?";
 }

@@ -39,6 +39,7 @@ static void outputs_off(foc_ctrl_t *c)
 /* Bridge off, back to IDLE (a start-up, stop or brake that ends). */
 static void to_idle(foc_ctrl_t *c)
 {
+    c->comm.step = (uint8_t)FOC_COMM_STEP_NONE; /* (a MECH abandoned) */
     outputs_off(c);
     enter(c, FOC_STATE_IDLE);
 }
@@ -102,6 +103,12 @@ static void trip(foc_ctrl_t *c, uint16_t faults)
         foc_port_pwm_disable();
     }
     c->shorting = brake;
+    if (c->comm.step == (uint8_t)FOC_COMM_STEP_MECH) {
+        /* a fault in commissioning's run ends it */
+        c->comm.step = (uint8_t)FOC_COMM_STEP_NONE;
+        c->comm.failed_step = (uint8_t)FOC_COMM_STEP_MECH;
+        faults |= (uint16_t)FOC_FAULT_COMMISSION_FAILED;
+    }
     for (uint16_t bit = 1u; bit != 0u && bit <= faults; bit = (uint16_t)(bit << 1)) {
         if ((faults & bit) != 0u) {
             foc_faults_raise(&c->faults, (foc_fault_t)bit);
@@ -146,7 +153,7 @@ void foc_init(foc_ctrl_t *c)
     c->duty = half_duty;
     c->probe = 0;
     c->probe_first = 0;
-    foc_cs_calib_start(&c->current_sense);
+    foc_cs_calib_start(&c->current_sense, FOC_CALIB_PERIODS_LOG2);
     foc_cc_init(&c->current_ctrl);
     foc_sc_init(&c->speed_ctrl);
     foc_fw_init(&c->fw);
@@ -596,6 +603,9 @@ void foc_fast_step(foc_ctrl_t *c)
         if (c->shorting == 0u) {
             current_loop(c, FRAME_ESTIMATE);
         }
+        if (c->comm.step == (uint8_t)FOC_COMM_STEP_MECH) {
+            foc_comm_mech_fast(&c->comm, c->i_dq.q);
+        }
         break;
     default:
         break;
@@ -870,7 +880,9 @@ static void speed_loop(foc_ctrl_t *c, q15_t target)
 {
     /* TUNING: the reference creeps toward the command. */
     c->speed_ctrl.target = target;
-    c->speed_ctrl.step15 = (c->opt.tuning != 0u) ? FOC_TUNING_RAMP_STEP15 : FOC_SPEED_RAMP_STEP15;
+    c->speed_ctrl.step15 = (c->opt.tuning != 0u) ? FOC_TUNING_RAMP_STEP15
+                           : (c->comm.step == (uint8_t)FOC_COMM_STEP_MECH) ? FOC_COMM_MECH_RAMP_STEP15
+                                                                         : FOC_SPEED_RAMP_STEP15;
     const q15_t v_mag = foc_mag_q15(c->v_dq.d, c->v_dq.q);
     const q15_t id_fw = foc_fw_step(&c->fw, c->speed_ctrl.ramped, v_mag, c->bus.v_max);
     c->handover_id = foc_slew_q15(c->handover_id, 0, FOC_HANDOVER_ID_STEP);
@@ -939,10 +951,10 @@ static void stall_check(foc_ctrl_t *c, uint8_t reversal)
 /* A speed command of the other sign in a sensorless run: ramp down to the
  * estimator's low-speed end, then start again the other way (the
  * estimator cannot follow through standstill). */
-static uint8_t reversing(const foc_ctrl_t *c)
+static uint8_t reversing(const foc_ctrl_t *c, q15_t command)
 {
-    return (uint8_t)(c->est.use_sensor == 0u && c->req.speed != 0 &&
-                     (c->req.speed < 0) != (c->direction < 0));
+    return (uint8_t)(c->est.use_sensor == 0u && command != 0 &&
+                     (command < 0) != (c->direction < 0));
 }
 
 static void stop_or_brake(foc_ctrl_t *c)
@@ -981,8 +993,19 @@ static void run_tick(foc_ctrl_t *c)
             hand_over(c, c->est.theta);
         }
     }
+    /* the command: the user's, or commissioning's (MECH) */
+    const uint8_t mech = (uint8_t)(c->comm.step == (uint8_t)FOC_COMM_STEP_MECH);
+    const q15_t command = (mech != 0u) ? foc_comm_mech_tick(&c->comm, c->est.speed) : c->req.speed;
+    if (mech != 0u && c->comm.step != (uint8_t)FOC_COMM_STEP_MECH) {
+        if (c->comm.j_q12 == 0) {
+            trip(c, (uint16_t)FOC_FAULT_COMMISSION_FAILED);
+        } else {
+            stop_or_brake(c);
+        }
+        return;
+    }
     /* start_ticks, unused in RUN, times a reversal's ramp down */
-    const uint8_t reversal = reversing(c);
+    const uint8_t reversal = reversing(c, command);
     if (reversal != 0u) {
         speed_loop(c, 0);
         if (foc_abs_q15(c->est.speed) <= (q15_t)(FOC_STARTUP_MIN_SPEED / 2)) {
@@ -1003,7 +1026,7 @@ static void run_tick(foc_ctrl_t *c)
     } else {
         c->start_ticks = 0;
         c->reversal_speed = reversal_speed_now(c);
-        speed_loop(c, c->req.speed);
+        speed_loop(c, command);
     }
     /* the follow check on the command, also through a reversal's ramp
      * down (its target 0): at the current limit there the speed must move
@@ -1015,7 +1038,7 @@ static void run_tick(foc_ctrl_t *c)
      * moves the estimate by a few rpm, which a heavy rotor gains in a
      * window (the fan at 10 x its inertia, seeds 1853, 3515) */
     if (c->handover_id == 0) {
-        faults |= foc_sup_follow(&c->sup, c->req.speed, c->est.speed, c->i_ref.q);
+        faults |= foc_sup_follow(&c->sup, command, c->est.speed, c->i_ref.q);
     }
     if (faults != 0u) {
         trip(c, faults);
@@ -1023,6 +1046,7 @@ static void run_tick(foc_ctrl_t *c)
     }
     stall_check(c, reversal);
     if (c->state == FOC_STATE_RUN && c->req.stop != 0u) {
+        c->comm.step = (uint8_t)FOC_COMM_STEP_NONE; /* MECH abandoned */
         stop_or_brake(c);
     }
 }
@@ -1072,6 +1096,25 @@ static void fault_tick(foc_ctrl_t *c)
     }
 }
 
+/* FLUX done: the spin goes on in OPENLOOP with the estimator told the
+ * measured Rs and Lq, until the start-up's convergence test hands it to
+ * RUN, where MECH drives the speed loop (run_tick).  Without a closed
+ * loop (open-loop only) there is nothing to measure MECH on. */
+static void commission_run(foc_ctrl_t *c)
+{
+    if (c->opt.open_loop_only != 0u) {
+        trip(c, (uint16_t)FOC_FAULT_COMMISSION_FAILED);
+        return;
+    }
+    foc_est_set_rs(&c->est, measured_ratio(c->comm.rs_q14));
+    foc_est_set_ls(&c->est, measured_ratio(c->comm.lq_q14));
+    c->direction = 1;
+    foc_speed_stats_reset(&c->speed_stats);
+    c->converged_ticks = 0;
+    c->start_ticks = 0;
+    enter(c, FOC_STATE_OPENLOOP);
+}
+
 /* COMMISSION's slow tick: the sequence (commission.c) drives the forced
  * frame and its d current; the bridge goes on (its controllers from zero)
  * when the offsets are taken; the end is IDLE, a failed step a fault. */
@@ -1082,6 +1125,10 @@ static void commission_tick(foc_ctrl_t *c)
     const foc_comm_status_t status = foc_comm_tick(&c->comm, &c->startup, &in);
     if (status == FOC_COMM_FAILED) {
         trip(c, (uint16_t)FOC_FAULT_COMMISSION_FAILED);
+        return;
+    }
+    if (status == FOC_COMM_HANDOVER) {
+        commission_run(c);
         return;
     }
     if (status == FOC_COMM_DONE) {
@@ -1107,13 +1154,13 @@ static void state_machine(foc_ctrl_t *c)
     switch (c->state) {
     case FOC_STATE_IDLE:
         if (c->req.commission != 0u) {
-            foc_cs_calib_start(&c->current_sense);
+            foc_cs_calib_start(&c->current_sense, FOC_COMM_CALIB_PERIODS_LOG2);
             outputs_off(c);
             reset_run_state(c);
             foc_comm_begin(&c->comm);
             enter(c, FOC_STATE_COMMISSION);
         } else if (c->req.start != 0u) {
-            foc_cs_calib_start(&c->current_sense);
+            foc_cs_calib_start(&c->current_sense, FOC_CALIB_PERIODS_LOG2);
             outputs_off(c);
             c->start_ticks = 0;
             enter(c, FOC_STATE_CALIB);

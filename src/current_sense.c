@@ -1,10 +1,9 @@
 #include "foc/current_sense.h"
 #include "foc/config.h"
 
-#define CALIB_COUNT (1u << FOC_CALIB_PERIODS_LOG2)
-
-void foc_cs_calib_start(foc_current_sense_t *cs)
+void foc_cs_calib_start(foc_current_sense_t *cs, uint8_t count_log2)
 {
+    cs->count_log2 = count_log2;
     cs->offset.a = 0;
     cs->offset.b = 0;
     cs->offset.c = 0;
@@ -15,10 +14,10 @@ void foc_cs_calib_start(foc_current_sense_t *cs)
     cs->calibrated = 0;
 }
 
-/* Mean of the sum, rounded: |sum| <= 2^15 x 2^10 fits int32_t. */
-static q15_t mean_of(int32_t sum)
+/* Mean of the sum, rounded: |sum| <= 2^15 x 2^14 fits int32_t. */
+static q15_t mean_of(int32_t sum, uint8_t log2)
 {
-    return foc_sat_q15((sum + (int32_t)(CALIB_COUNT / 2u)) >> FOC_CALIB_PERIODS_LOG2);
+    return foc_sat_q15((sum + ((int32_t)1 << (log2 - 1u))) >> log2);
 }
 
 void foc_cs_calib_add(foc_current_sense_t *cs, const foc_samples_t *s)
@@ -31,10 +30,10 @@ void foc_cs_calib_add(foc_current_sense_t *cs, const foc_samples_t *s)
     cs->sum[1] += s->i_b;
     cs->sum[2] += s->i_c;
     cs->count++;
-    if (cs->count >= CALIB_COUNT) {
-        cs->offset.a = mean_of(cs->sum[0]);
-        cs->offset.b = mean_of(cs->sum[1]);
-        cs->offset.c = mean_of(cs->sum[2]);
+    if (cs->count >= (uint16_t)(1u << cs->count_log2)) {
+        cs->offset.a = mean_of(cs->sum[0], cs->count_log2);
+        cs->offset.b = mean_of(cs->sum[1], cs->count_log2);
+        cs->offset.c = mean_of(cs->sum[2], cs->count_log2);
         cs->calibrated = 1;
     }
 }

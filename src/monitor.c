@@ -365,6 +365,9 @@ static void cmd_commission(const call_t *k)
 #define IDENT_LD 2u
 #define IDENT_LQ 3u
 #define IDENT_FLUX 4u
+#define IDENT_J 5u        /* MECH's: its Q12 ratio (x 4) */
+#define IDENT_VISCOUS 6u  /* MECH's friction line (ident_friction) */
+#define IDENT_COULOMB 7u
 typedef struct {
     const char *key;
     int64_t value;     /* the parameter x 10^decimals */
@@ -384,16 +387,53 @@ static const ident_row_t ident_rows[] = {
     IDENT_ROW("max_speed_rpm", MOTOR_MAX_SPEED_RPM, 3u, 1e3, IDENT_NONE),
     IDENT_ROW("rated_current_a_peak", MOTOR_RATED_CURRENT_A, 3u, 1e3, IDENT_NONE),
     IDENT_ROW("max_current_a_peak", CURRENT_LIMIT_A, 3u, 1e3, IDENT_NONE),
-    IDENT_ROW("inertia_kgm2", MOTOR_INERTIA_KGM2, 12u, 1e12, IDENT_NONE),
-    IDENT_ROW("viscous_nm_per_krpm", MOTOR_VISCOUS_NM_PER_KRPM, 12u, 1e12, IDENT_NONE),
-    IDENT_ROW("coulomb_nm", MOTOR_COULOMB_NM, 9u, 1e9, IDENT_NONE),
+    IDENT_ROW("inertia_kgm2", MOTOR_INERTIA_KGM2, 12u, 1e12, IDENT_J),
+    IDENT_ROW("viscous_nm_per_krpm", MOTOR_VISCOUS_NM_PER_KRPM, 12u, 1e12, IDENT_VISCOUS),
+    IDENT_ROW("coulomb_nm", MOTOR_COULOMB_NM, 9u, 1e9, IDENT_COULOMB),
 };
+
+/* MECH's friction from its q current sums at the two speeds (commission.h,
+ * Q15 x FOC_COMM_MECH_SUM_N): the viscous part from their slope, the
+ * Coulomb part the line at zero speed, both times the measured flux's Kt
+ * (flux_q14 x the parameter's).  Each is flux_q14 x a sum x NUM / DEN:
+ * NUM = 2^16 keeps the product within 2^15 x 2^31 x 2^16 = 2^62, DEN
+ * rounds the constant to 1/1024 at worst (config.h holds it above 1024). */
+#define IDENT_A_PER_SUM (FOC_I_BASE_A / (32768.0 * FOC_COMM_MECH_SUM_N))
+#define IDENT_VISCOUS_PER_SUM \
+    (FOC_KT_NM_PER_A * IDENT_A_PER_SUM / FOC_COMM_MECH_DW_RAD_S * (1000.0 * 2.0 * FOC_PI_D / 60.0) * 1e12 / 16384.0)
+#define IDENT_COULOMB_PER_SUM (FOC_KT_NM_PER_A * IDENT_A_PER_SUM * 1e9 / 16384.0)
+#define IDENT_DEN(per_sum) ((int64_t)(65536.0 / (per_sum) + 0.5))
+FOC_STATIC_ASSERT(IDENT_VISCOUS_PER_SUM < 64.0 && IDENT_COULOMB_PER_SUM < 64.0,
+                  "ident's friction constants: the rounding of their DEN");
+
+/* value x ratio / 2^14 rounded, value >= 0 below 2^50 (an inertia up to
+ * 1000 kg m^2 x 10^12), ratio below 2^17: split so no product passes
+ * 2^53. */
+static int64_t ident_scaled(int64_t value, int32_t ratio_q14)
+{
+    return (value >> 14) * ratio_q14 + (((value & 16383) * ratio_q14 + 8192) >> 14);
+}
+
+/* The friction row's value x 10^decimals (>= 0: friction takes energy). */
+static int64_t ident_friction(const foc_comm_t *r, uint8_t which)
+{
+    const int64_t low = r->u.friction_i.low;
+    const int64_t high = r->u.friction_i.high;
+    const int64_t dw = FOC_COMM_MECH_HIGH - FOC_COMM_MECH_LOW;
+    /* |sum| < 2^31: the slope's sum, or the line's at zero speed */
+    const int64_t sum = (which == IDENT_VISCOUS) ? high - low
+                                                 : div_round(low * dw - (high - low) * FOC_COMM_MECH_LOW, dw);
+    const int64_t den = (which == IDENT_VISCOUS) ? IDENT_DEN(IDENT_VISCOUS_PER_SUM) : IDENT_DEN(IDENT_COULOMB_PER_SUM);
+    const int64_t v = div_round(r->flux_q14 * sum * 65536, den);
+    return (v > 0) ? v : 0;
+}
 
 /* Commissioning's results (commission.h) in SI units, as the motor
  * description tools/tune.py reads: data lines, then "ok"; the rest of the
- * description from userparms.h (commissioning does not measure it).  A
- * result is its Q14 ratio times the parameter (x 10^9: < 2^40 for any
- * motor config.h accepts, the product < 2^55). */
+ * description from userparms.h (commissioning does not measure it, nor
+ * the inertia and friction when MECH did not run).  A result is its Q14
+ * ratio times the parameter (ident_scaled), or the friction's line
+ * (ident_friction). */
 static void cmd_ident(const call_t *k)
 {
     const foc_comm_t *r = &k->m->ctrl->comm;
@@ -404,12 +444,16 @@ static void cmd_ident(const call_t *k)
         return;
     }
     out_line(o, "[motor]\r\nname = commissioned motor\r\nconnection = star\r\nrl_measured = phase");
-    const q15_t ratio[] = { 16384, r->rs_q14, r->ld_q14, r->lq_q14, r->flux_q14 };
+    const uint8_t mech = (uint8_t)(r->j_q12 != 0);
+    /* Q14; the mechanical rows the build's without MECH */
+    const int32_t ratio[] = { 16384, r->rs_q14, r->ld_q14, r->lq_q14, r->flux_q14, mech ? 4 * (int32_t)r->j_q12 : 16384 };
     for (unsigned i = 0; i < sizeof ident_rows / sizeof ident_rows[0]; i++) {
         const ident_row_t *row = &ident_rows[i];
         out_str(o, row->key);
         out_str(o, " = ");
-        out_fixed(o, div_round((int64_t)ratio[row->measured] * row->value, 16384), row->decimals, 1u);
+        const int64_t v = (row->measured >= IDENT_VISCOUS) ? (mech ? ident_friction(r, row->measured) : row->value)
+                                                           : ident_scaled(row->value, ratio[row->measured]);
+        out_fixed(o, v, row->decimals, 1u);
         out_end(o);
     }
     reply_ok(o);

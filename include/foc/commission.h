@@ -4,8 +4,9 @@
  * userparms.h values the firmware was built with.
  *
  * The controller runs it in FOC_STATE_COMMISSION (foc_cmd_commission from
- * IDLE) and ends in IDLE with `valid` set, or in FAULT COMMISSION_FAILED
- * with `failed_step`.  This block holds the sequence (foc_comm_tick, one
+ * IDLE), MECH in OPENLOOP and RUN, and ends in IDLE (after a STOP) with
+ * `valid` set (and j_q12 when MECH ran), or in FAULT COMMISSION_FAILED
+ * with `failed_step` (`valid` still set if only MECH failed).  This block holds the sequence (foc_comm_tick, one
  * slow tick) and its arithmetic; the per-period work it asks for
  * (foc_comm_mode_t) is the controller's forced-frame current loop plus
  * foc_comm_sum, or the inductance pulses of foc_comm_pulse.
@@ -25,6 +26,25 @@
  *   FLUX     I/f spin at FOC_COMM_SPIN_SPEED (the start-up's ramp and
  *            current); in the forced frame E = V - Rs I - j w Lq I lies on
  *            the rotor's q axis, |E| = w (psi + (Ld - Lq) id_rotor).
+ *   MECH     the controller hands the spin over to the estimator (the
+ *            start-up's convergence test, the measured Rs and Lq given to
+ *            the estimator) and runs the speed loop on the speeds of
+ *            foc_comm_mech_tick: held at FOC_COMM_MECH_LOW, the q current
+ *            summed (the friction there); a window up to _HIGH; the
+ *            friction at _HIGH; a window down.  With the friction linear
+ *            in speed, i_f = i_low + s (w - w_low), the windows' q current
+ *            sums A and speed sums W give 2 J dw = Kt Ts I_base (A_up -
+ *            A_down - s (W_up - W_down)): the Coulomb part cancels, the
+ *            profile within the windows does not matter, only that each
+ *            starts and ends settled.  Kt is the measured flux's.
+ *            Only with the measured flux, Ld and Lq within 15 % of the
+ *            parameters (FOC_COMM_MECH_MATCH_*): the estimators run on
+ *            the parameters, and 50 % off (shinano_la052's flux) the
+ *            PLL's angle was off enough to make J 18 % high; the drone
+ *            with Ld 0.7 and Lq 1.3 x its parameters lost its estimate in
+ *            the spin's d current.  Otherwise the sequence ends after
+ *            FLUX: rebuilt with the measured values, a second
+ *            commissioning measures J and the friction.
  * Results, Q14 ratios to the parameter (16384 = 1.0), accepted within
  * [0.25, 2): outside, the step fails (an open winding, a rotor that does
  * not follow, a sensor that reads nothing).
@@ -37,6 +57,7 @@
 #define FOC_COMMISSION_H
 
 #include <stdint.h>
+#include "foc/config.h"
 #include "foc/q15.h"
 #include "foc/startup.h"
 #include "foc/transforms.h"
@@ -48,7 +69,8 @@ typedef enum {
     FOC_COMM_STEP_RS,
     FOC_COMM_STEP_LD,
     FOC_COMM_STEP_LQ,
-    FOC_COMM_STEP_FLUX
+    FOC_COMM_STEP_FLUX,
+    FOC_COMM_STEP_MECH
 } foc_comm_step_t;
 
 /* What the fast step runs (foc_comm_t.mode). */
@@ -64,7 +86,8 @@ typedef enum {
 
 typedef enum {
     FOC_COMM_BUSY = 0,
-    FOC_COMM_DONE,
+    FOC_COMM_DONE,     /* FLUX done, MECH not run (see MECH above) */
+    FOC_COMM_HANDOVER, /* FLUX done: the spin on to RUN for MECH */
     FOC_COMM_FAILED
 } foc_comm_status_t;
 
@@ -73,27 +96,45 @@ typedef struct {
     uint8_t mode;        /* [slow] foc_comm_mode_t */
     uint8_t level;       /* [slow] RS: 0 the high current, 1 the low; */
                          /* ALIGN, FLUX: 0 the start-up's part, 1 the */
-                         /* rotor settling */
+                         /* rotor settling; MECH: foc_comm_mech_tick's */
     uint8_t failed_step; /* [slow] foc_comm_step_t that failed, 0 none */
     uint8_t valid;       /* [slow] 1: the results below are measured */
     uint8_t fast_mode;   /* [fast] the mode its sums belong to */
     uint8_t phase;       /* [fast] pulse: period in the cycle, 0 .. 2N-1 */
     uint16_t cycles;     /* [fast] pulse: cycles done (2 settle first) */
-    uint16_t count;      /* [fast] periods (SUM) or cycles (PULSE) summed; */
-                         /* its target reached: the sums are the slow's */
+    uint16_t count;      /* [fast] periods (SUM, MECH) or cycles (PULSE) */
+                         /* summed; its target reached: the sums are the */
+                         /* slow's (MECH: it takes iq_block, then clears) */
     uint16_t ticks;      /* [slow] slow ticks in the step */
     int32_t sum[4];      /* [fast] SUM: vd, vq, id, iq (Q15 x 2^12); */
                          /* PULSE: sum[0] the regression sum u x di, */
                          /* sum[1] the weighted deviation (2V x di) / 16 */
-                         /* (commission.c, foc_comm_pulse) */
-    int32_t rs_v_high;   /* [slow] RS: the high level's vd and id sums */
-    int32_t rs_i_high;
+                         /* (commission.c, foc_comm_pulse); */
+                         /* [slow] MECH (RUN: the fast step leaves them): */
+                         /* the windows' q current and speed sums (Q15 x */
+                         /* ticks), up: sum[0], sum[1]; down: sum[2], sum[3] */
+    int32_t iq_block;    /* [fast] MECH: the q current (Q15) summed over */
+                         /* CONTROL_SLOW_DIVIDER periods (the mean of a */
+                         /* whole slow tick: a sample once a tick would */
+                         /* see the speed loop's steps at one phase) */
+    union {
+        struct {         /* [slow] RS: the high level's vd and id sums */
+            int32_t v_high;
+            int32_t i_high;
+        } rs;
+        struct {         /* [slow] MECH's results: the q current held at */
+            int32_t low; /* FOC_COMM_MECH_LOW and _HIGH, summed over */
+            int32_t high;/* FOC_COMM_MECH_SUM_N ticks (Q15 x 2^12): the */
+        } friction_i;    /* friction's (no load on the shaft) */
+    } u;
     /* results, Q14 ratios to MOTOR_RS_OHM, MOTOR_LD_H, MOTOR_LQ_H and
      * the flux of MOTOR_KE_VPK_PER_KRPM, in [4096, 32767] when valid */
     q15_t rs_q14;
     q15_t ld_q14;
     q15_t lq_q14;
     q15_t flux_q14;
+    q15_t j_q12;         /* J / MOTOR_INERTIA_KGM2, Q12, [256, 32767] */
+                         /* when MECH measured it, else 0 */
 } foc_comm_t;
 
 /* Inputs of a slow tick from the controller. */
@@ -122,7 +163,23 @@ void foc_comm_sum(foc_comm_t *m, foc_dq_t v, foc_dq_t i);
  * this period (Q15, +-dV). */
 q15_t foc_comm_pulse(foc_comm_t *m, q15_t i_axis, q15_t i_hold);
 
-/* "NONE", "OFFSETS", "ALIGN", "RS", "LD", "LQ", "FLUX". */
+/* MECH, once per period of RUN: the q current measured (Q15) joins the
+ * block the slow step takes (|sum| < 255 x 2^15). */
+static inline void foc_comm_mech_fast(foc_comm_t *m, q15_t iq)
+{
+    if (m->count < (uint16_t)CONTROL_SLOW_DIVIDER) {
+        m->iq_block += iq;
+        m->count++;
+    }
+}
+
+/* MECH, one slow tick of RUN: the estimated speed (Q15); returns the
+ * speed command.  At the end j_q12 is set and the step is NONE (the
+ * controller then stops the motor); a result out of range fails the
+ * step (failed_step MECH, the step NONE). */
+q15_t foc_comm_mech_tick(foc_comm_t *m, q15_t speed);
+
+/* "NONE", "OFFSETS", "ALIGN", "RS", "LD", "LQ", "FLUX", "MECH". */
 const char *foc_comm_step_name(uint8_t step);
 
 #endif /* FOC_COMMISSION_H */

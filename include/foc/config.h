@@ -619,6 +619,11 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
 
 /* ------------------------------------------------------- calibration -- */
 #define FOC_CALIB_PERIODS_LOG2 10 /* 1024 periods averaged for the offsets */
+/* Commissioning's: 16384 periods.  An offset error turns in the rotor
+ * frame and, through the estimator's angle, leaves a q current bias that
+ * the friction's few mA feel: with 1024 periods and 2 codes of noise the
+ * Hurst075's viscous friction came out 4 % (1 sigma) off, with 16384 1 %. */
+#define FOC_COMM_CALIB_PERIODS_LOG2 14
 #define FOC_CALIB_TICKS ((uint16_t)(CALIB_TIME_S / FOC_SLOW_TS_S + 0.5))
 
 /* ---------------------------------------------------------- start-up -- */
@@ -749,11 +754,13 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
 #define FOC_COMM_TS_TAU_D_Q20 ((int32_t)(FOC_TS_S * MOTOR_RS_OHM / MOTOR_LD_H * 1048576.0 + 0.5))
 #define FOC_COMM_TS_TAU_Q_Q20 ((int32_t)(FOC_TS_S * MOTOR_RS_OHM / MOTOR_LQ_H * 1048576.0 + 0.5))
 /* The I/f spin for the flux: twice the start-up's final speed, within
- * 0.15 .. 0.5 of the maximum; the rotor's swing settles for 0.3 s. */
+ * 0.15 .. 0.3 of the maximum (at 0.5, 4500 rpm, the drone's rotor swung
+ * by +-12 A about the forced angle with Ld 1.3 and Lq 0.7 x the
+ * parameters); the rotor's swing settles for 0.3 s. */
 #define FOC_COMM_SPIN_RPM_D (2.0 * STARTUP_FINAL_SPEED_RPM)
 #define FOC_COMM_SPIN_RPM                                                      \
     (FOC_COMM_SPIN_RPM_D < 0.15 * MOTOR_MAX_SPEED_RPM ? 0.15 * MOTOR_MAX_SPEED_RPM    \
-     : FOC_COMM_SPIN_RPM_D > 0.5 * MOTOR_MAX_SPEED_RPM ? 0.5 * MOTOR_MAX_SPEED_RPM   \
+     : FOC_COMM_SPIN_RPM_D > 0.3 * MOTOR_MAX_SPEED_RPM ? 0.3 * MOTOR_MAX_SPEED_RPM   \
                                                       : FOC_COMM_SPIN_RPM_D)
 #define FOC_COMM_SPIN_SPEED FOC_SPEED_Q15(FOC_COMM_SPIN_RPM)
 #define FOC_COMM_SPIN_SETTLE_TICKS FOC_TICKS(0.3)
@@ -772,6 +779,52 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
 #define FOC_COMM_XD_Q20 ((int32_t)(FOC_WE_BASE_RAD_S * MOTOR_LD_H * FOC_I_BASE_A / FOC_V_BASE_V * 1048576.0 + 0.5))
 #define FOC_COMM_XQ_Q20 ((int32_t)(FOC_WE_BASE_RAD_S * MOTOR_LQ_H * FOC_I_BASE_A / FOC_V_BASE_V * 1048576.0 + 0.5))
 #define FOC_COMM_KE_Q15 ((int32_t)(FOC_KFI_PU * 32768.0 + 0.5))
+/* MECH (inertia and friction) in RUN on the speed loop: a low and a high
+ * speed below field weakening (the high 0.9 x the rated speed, the low
+ * the spin's, at most half the high), each held while the q current is
+ * summed over 2^FOC_COMM_MECH_SUM_LOG2 slow ticks; between them a window
+ * up and one down, FOC_COMM_MECH_WINDOW_TICKS each: the reference's ramp
+ * (the reference's rate, slower if the parameter's inertia would take
+ * more than 0.3 x the current limit) and 0.5 s to settle. */
+#define FOC_COMM_MECH_HIGH_RPM \
+    (0.9 * (MOTOR_NOMINAL_SPEED_RPM < MOTOR_MAX_SPEED_RPM ? MOTOR_NOMINAL_SPEED_RPM : MOTOR_MAX_SPEED_RPM))
+#define FOC_COMM_MECH_LOW_RPM \
+    (STARTUP_FINAL_SPEED_RPM > 0.25 * FOC_COMM_MECH_HIGH_RPM ? STARTUP_FINAL_SPEED_RPM : 0.25 * FOC_COMM_MECH_HIGH_RPM)
+#define FOC_COMM_MECH_HIGH FOC_SPEED_Q15(FOC_COMM_MECH_HIGH_RPM)
+#define FOC_COMM_MECH_LOW FOC_SPEED_Q15(FOC_COMM_MECH_LOW_RPM)
+/* MECH runs only with the measured flux, Ld and Lq within 15 % of the
+ * parameters (commission.h) */
+#define FOC_COMM_MECH_MATCH_MIN_Q14 ((int32_t)(0.85 * 16384.0 + 0.5))
+#define FOC_COMM_MECH_MATCH_MAX_Q14 ((int32_t)(1.15 * 16384.0 + 0.5))
+/* 2^13 slow ticks (4 s at 2 kHz) with a 12-bit ADC, twice as long per
+ * bit less, up to 2^15: the Hurst075's 10-bit MCLV put its viscous
+ * friction 5.3 % off in 2 of 10 seeds in 4 s (half the friction: its
+ * current changes by 2.3 mA, 0.27 codes, between the speeds). */
+#define FOC_COMM_MECH_SUM_LOG2 \
+    (BOARD_ADC_BITS >= 12 ? 13 : BOARD_ADC_BITS <= 10 ? 15 : 13 + (12 - BOARD_ADC_BITS))
+#define FOC_COMM_MECH_SUM_N ((uint16_t)(1u << FOC_COMM_MECH_SUM_LOG2))
+/* Kt of the parameters (Nm/A) and the accelerations (rpm/s) */
+#define FOC_KT_NM_PER_A (1.5 * MOTOR_POLE_PAIRS * FOC_FLUX_WB)
+#define FOC_COMM_MECH_ACCEL_J_RPM_S \
+    (0.3 * FOC_KT_NM_PER_A * CURRENT_LIMIT_A / MOTOR_INERTIA_KGM2 * 60.0 / (2.0 * FOC_PI_D))
+#define FOC_COMM_MECH_ACCEL_RPM_S \
+    (FOC_COMM_MECH_ACCEL_J_RPM_S < SPEED_RAMP_RPM_PER_S ? FOC_COMM_MECH_ACCEL_J_RPM_S : SPEED_RAMP_RPM_PER_S)
+#define FOC_COMM_MECH_RAMP_STEP15 \
+    ((int32_t)(FOC_COMM_MECH_ACCEL_RPM_S * FOC_SLOW_TS_S / SPEED_BASE_RPM * 32768.0 * 32768.0 + 0.5))
+#define FOC_COMM_MECH_WINDOW_S \
+    ((FOC_COMM_MECH_HIGH_RPM - FOC_COMM_MECH_LOW_RPM) / FOC_COMM_MECH_ACCEL_RPM_S + 0.5)
+#define FOC_COMM_MECH_WINDOW_TICKS FOC_TICKS(FOC_COMM_MECH_WINDOW_S)
+/* The speed step the windows cross, as the Q15 speeds give it (rad/s) */
+#define FOC_COMM_MECH_DW_RAD_S \
+    ((double)(FOC_COMM_MECH_HIGH - FOC_COMM_MECH_LOW) / 32768.0 * SPEED_BASE_RPM * 2.0 * FOC_PI_D / 60.0)
+/* The windows' difference of q current sums (Q15 x slow ticks) that
+ * MOTOR_INERTIA_KGM2 gives: 2 J dw = Kt I_base Ts x sum / 32768. */
+#define FOC_COMM_MECH_J_SUM \
+    ((int32_t)(2.0 * MOTOR_INERTIA_KGM2 * FOC_COMM_MECH_DW_RAD_S * 32768.0 / \
+               (FOC_KT_NM_PER_A * FOC_I_BASE_A * FOC_SLOW_TS_S) + 0.5))
+/* 2^24 / the speed step (Q15): the friction's slope in Q24 per Q15 speed */
+#define FOC_COMM_MECH_INV_DW_Q24 \
+    ((int32_t)(16777216.0 / (double)(FOC_COMM_MECH_HIGH - FOC_COMM_MECH_LOW) + 0.5))
 /* STOP (ramp mode) leaves the rotor to coast at STOP_SPEED_RPM, but on an
  * estimate not below STARTUP_MIN_SPEED_RPM, the lowest speed the
  * estimators carry the loop at: lower, the drone's Luenberger observer
@@ -1115,6 +1168,11 @@ FOC_STATIC_ASSERT(FOC_COMM_RS_Q20 > 0 && FOC_RS_PU < 1000.0 &&
                   FOC_WE_BASE_RAD_S * MOTOR_LQ_H * FOC_I_BASE_A / FOC_V_BASE_V < 1000.0 &&
                   FOC_WE_BASE_RAD_S * MOTOR_LD_H * FOC_I_BASE_A / FOC_V_BASE_V < 1000.0,
                   "commissioning: Rs or a reactance beyond 1000 per-unit (commission.c)");
+FOC_STATIC_ASSERT(FOC_COMM_MECH_LOW >= FOC_STARTUP_MIN_SPEED && FOC_COMM_MECH_HIGH > FOC_COMM_MECH_LOW + FOC_COMM_MECH_LOW / 4,
+                  "commissioning's inertia step: the low and high speeds (FOC_COMM_MECH_*_RPM) too close or too low");
+FOC_STATIC_ASSERT(FOC_COMM_MECH_WINDOW_TICKS <= 32767 && FOC_COMM_MECH_J_SUM > 1000 &&
+                      (double)FOC_COMM_MECH_J_SUM < 536870912.0,
+                  "commissioning's inertia step: the ramp too slow (inertia too large for the current limit) or the inertia's sum out of range");
 FOC_STATIC_ASSERT(FOC_COMM_TS_TAU_D_Q20 < 1048576 && FOC_COMM_TS_TAU_Q_Q20 < 1048576,
                   "commissioning: L / Rs shorter than a PWM period");
 FOC_STATIC_ASSERT(FOC_COMM_PULSE_DV_D > 0 && FOC_COMM_PULSE_DV_Q > 0 &&

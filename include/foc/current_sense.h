@@ -2,7 +2,7 @@
  * Phase-current offset calibration and conversion to the stator frame.
  *
  * Input: the port's samples (Q15 of the current base, offset included).
- * The offsets are the mean of 2^FOC_CALIB_PERIODS_LOG2 samples taken with
+ * The offsets are the mean of 2^count_log2 samples (foc_cs_calib_start) taken with
  * the bridge off (zero current); during RUN each valid phase has its offset
  * removed and the two or three valid phases go through Clarke.
  */
@@ -17,11 +17,14 @@ typedef struct {
     foc_abc_t offset;    /* Q15 per phase */
     int32_t sum[3];      /* calibration sums, Q15 x 2^log2 count */
     uint16_t count;      /* samples summed so far */
+    uint8_t count_log2;  /* of the samples to sum (at most 14) */
     uint8_t calibrated;  /* 1 once offsets are valid */
 } foc_current_sense_t;
 
-/* Forgets the offsets and restarts the calibration. */
-void foc_cs_calib_start(foc_current_sense_t *cs);
+/* Forgets the offsets and restarts the calibration over 2^count_log2
+ * periods (FOC_CALIB_PERIODS_LOG2 for a start; commissioning's longer:
+ * FOC_COMM_CALIB_PERIODS_LOG2). */
+void foc_cs_calib_start(foc_current_sense_t *cs, uint8_t count_log2);
 
 /* Adds one period's samples (bridge off); sets `calibrated` when done. */
 void foc_cs_calib_add(foc_current_sense_t *cs, const foc_samples_t *s);

@@ -379,7 +379,7 @@ static void case_current_circle(void)
 static void case_current_sense(void)
 {
     foc_current_sense_t cs;
-    foc_cs_calib_start(&cs);
+    foc_cs_calib_start(&cs, FOC_CALIB_PERIODS_LOG2);
     foc_samples_t s = { 0 };
     for (int k = 0; k < 1024; k++) {
         s.i_a = (q15_t)(100 + (k & 1));  /* mean 100.5 -> 101 (rounded) */

@@ -64,6 +64,7 @@ static const plant_spec_t plant_params[] = {
     [SCN_PLANT_FLUX] = { "flux", POSITIVE, 0 },
     [SCN_PLANT_J] = { "j", POSITIVE, 0 },
     [SCN_PLANT_B] = { "b", NON_NEG, 0 },
+    [SCN_PLANT_COULOMB] = { "coulomb", NON_NEG, 0 },
     [SCN_PLANT_DEADTIME] = { "deadtime", NON_NEG, 0 },
     [SCN_PLANT_NOISE] = { "noise", NON_NEG, 0 },
     [SCN_PLANT_BUSCAP] = { "buscap", NON_NEG, 0 },

@@ -184,6 +184,7 @@ static void set_plant(pmsm_model_t *m, scn_plant_t which, double v)
     case SCN_PLANT_FLUX: m->p.flux_wb = v; break;
     case SCN_PLANT_J: m->p.j_kgm2 = v; break;
     case SCN_PLANT_B: m->p.b_nm_per_rad_s = v; break;
+    case SCN_PLANT_COULOMB: m->p.coulomb_nm = v; break;
     case SCN_PLANT_DEADTIME: m->p.deadtime_s = v; break;
     case SCN_PLANT_NOISE: m->p.noise_codes = v; break;
     case SCN_PLANT_BUSCAP: m->p.bus_cap_f = v; break;
@@ -331,13 +332,32 @@ int sim_step(sim_t *s, sim_row_t *row)
 void sim_commission_results(const sim_t *s, sim_commission_t *out)
 {
     const foc_comm_t *m = &s->ctrl.comm;
-    out->ran = m->step != (uint8_t)FOC_COMM_STEP_NONE;
+    out->ran = m->step != (uint8_t)FOC_COMM_STEP_NONE || m->valid != 0u ||
+               m->failed_step != (uint8_t)FOC_COMM_STEP_NONE;
     out->valid = m->valid != 0u;
     out->failed_step = foc_comm_step_name(m->failed_step);
     out->rs_ohm = m->rs_q14 / 16384.0 * MOTOR_RS_OHM;
     out->ld_h = m->ld_q14 / 16384.0 * MOTOR_LD_H;
     out->lq_h = m->lq_q14 / 16384.0 * MOTOR_LQ_H;
     out->flux_wb = m->flux_q14 / 16384.0 * FOC_FLUX_WB;
+    out->mech = m->j_q12 != 0;
+    out->j_kgm2 = MOTOR_INERTIA_KGM2;
+    out->b_nms = MOTOR_VISCOUS_NM_PER_KRPM * 60.0 / (1000.0 * 2.0 * FOC_PI_D);
+    out->coulomb_nm = MOTOR_COULOMB_NM;
+    if (!out->mech) {
+        return;
+    }
+    out->j_kgm2 = m->j_q12 / 4096.0 * MOTOR_INERTIA_KGM2;
+    /* the friction line through the q currents held at the two speeds */
+    const double kt = 1.5 * MOTOR_POLE_PAIRS * out->flux_wb;
+    const double a_per_sum = FOC_I_BASE_A / (32768.0 * FOC_COMM_MECH_SUM_N);
+    const double rad_s_per_q15 = SPEED_BASE_RPM / 32768.0 * 2.0 * FOC_PI_D / 60.0;
+    const double w_low = FOC_COMM_MECH_LOW * rad_s_per_q15;
+    const double w_high = FOC_COMM_MECH_HIGH * rad_s_per_q15;
+    const double i_low = m->u.friction_i.low * a_per_sum;
+    const double slope = (m->u.friction_i.high * a_per_sum - i_low) / (w_high - w_low);
+    out->b_nms = kt * slope;
+    out->coulomb_nm = kt * (i_low - slope * w_low);
 }
 
 void sim_commission_print(const sim_t *s, FILE *f)
@@ -353,6 +373,10 @@ void sim_commission_print(const sim_t *s, FILE *f)
     }
     fprintf(f, "id_rs_ohm=%.6g\nid_ld_h=%.6g\nid_lq_h=%.6g\nid_flux_wb=%.6g\n", r.rs_ohm, r.ld_h,
             r.lq_h, r.flux_wb);
+    fprintf(f, "commission_mech=%s\n", r.mech ? "measured" : strcmp(r.failed_step, "MECH") == 0 ? "failed" : "not_run");
+    if (r.mech) {
+        fprintf(f, "id_j_kgm2=%.6g\nid_b_nms=%.6g\nid_coulomb_nm=%.6g\n", r.j_kgm2, r.b_nms, r.coulomb_nm);
+    }
 }
 
 int sim_commission_ini(const sim_t *s, FILE *f)
@@ -363,9 +387,9 @@ int sim_commission_ini(const sim_t *s, FILE *f)
         return -1;
     }
     fprintf(f,
-            "# Written by focsim --commission-out: Rs, Ld, Lq and the flux linkage\n"
+            "# Written by focsim --commission-out: Rs, Ld, Lq, the flux linkage%s\n"
             "# measured by the firmware's self-commissioning (docs/commissioning.md);\n"
-            "# the rest from the userparms.h it was built with.\n"
+            "# the rest from the userparms.h it was built with.%s\n"
             "[motor]\n"
             "name = commissioned motor\n"
             "pole_pairs = %d\n"
@@ -379,13 +403,16 @@ int sim_commission_ini(const sim_t *s, FILE *f)
             "max_speed_rpm = %.6g\n"
             "rated_current_a_peak = %.6g\n"
             "max_current_a_peak = %.6g\n"
-            "# not measured (commissioning does not identify them yet): userparms.h's\n"
             "inertia_kgm2 = %.6g\n"
             "viscous_nm_per_krpm = %.6g\n"
             "coulomb_nm = %.6g\n",
+            r.mech ? ", the inertia\n# and the friction" : "",
+            r.mech ? "" : "  The inertia and the\n# friction were not measured: the flux is more than 15 % off the build's;\n"
+                          "# rebuilt with this file, a second commissioning measures them.",
             MOTOR_POLE_PAIRS, r.rs_ohm, r.ld_h, r.lq_h, r.flux_wb, (double)MOTOR_NOMINAL_SPEED_RPM,
             (double)MOTOR_MAX_SPEED_RPM, (double)MOTOR_RATED_CURRENT_A, (double)CURRENT_LIMIT_A,
-            (double)MOTOR_INERTIA_KGM2, (double)MOTOR_VISCOUS_NM_PER_KRPM, (double)MOTOR_COULOMB_NM);
+            r.j_kgm2, (r.b_nms > 0.0 ? r.b_nms : 0.0) * 1000.0 * 2.0 * FOC_PI_D / 60.0,
+            r.coulomb_nm > 0.0 ? r.coulomb_nm : 0.0);
     return ferror(f) ? -1 : 0;
 }
 

@@ -116,24 +116,33 @@ int sim_fw_mode_from_name(const char *name, int *mode);
 int sim_stop_mode_from_name(const char *name, int *mode);
 
 /* Commissioning's results in SI units (the controller's Q14 ratios times
- * the userparms.h values the core was built with); `ran`: a commissioning
- * was started, `valid`: it ended with its results. */
+ * the userparms.h values the core was built with; the friction from its
+ * q currents and the measured flux's Kt); `ran`: a commissioning was
+ * started, `valid`: it ended with its results. */
 typedef struct {
     int ran, valid;
+    int mech;                /* J and the friction measured (MECH ran) */
     const char *failed_step; /* "NONE" unless a step failed */
     double rs_ohm, ld_h, lq_h, flux_wb;
+    double j_kgm2;     /* inertia */
+    double b_nms;      /* viscous friction, Nm per rad/s */
+    double coulomb_nm; /* dry friction (the friction line at zero speed) */
+    /* (without `mech`: userparms.h's) */
 } sim_commission_t;
 
 void sim_commission_results(const sim_t *s, sim_commission_t *out);
 
-/* The summary's keys id_rs_ohm, id_ld_h, id_lq_h, id_flux_wb (and
- * commission_step when one failed), only if a commissioning ran. */
+/* The summary's keys id_rs_ohm, id_ld_h, id_lq_h, id_flux_wb, then
+ * commission_mech=measured|not_run and, measured, id_j_kgm2, id_b_nms,
+ * id_coulomb_nm (and commission_step when one failed), only if a
+ * commissioning ran. */
 void sim_commission_print(const sim_t *s, FILE *f);
 
 /* A motor description tools/tune.py reads ([motor], per-phase values of
  * the star equivalent) from the results and the userparms.h the firmware
- * was built with (pole pairs, speeds, currents, inertia and friction,
- * which commissioning does not measure); -1 without valid results. */
+ * was built with (pole pairs, speeds and currents, which commissioning
+ * does not measure, and the inertia and friction when MECH did not run);
+ * -1 without valid results. */
 int sim_commission_ini(const sim_t *s, FILE *f);
 
 /* Q15 speed to mechanical rpm and back (saturating). */
