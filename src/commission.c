@@ -345,8 +345,16 @@ static foc_comm_status_t flux_tick(foc_comm_t *m, foc_startup_t *su)
         m->mode = (uint8_t)FOC_COMM_MODE_OFF;
         return FOC_COMM_DONE;
     }
+    /* MECH's sums from zero (mode OFF: the fast step leaves them), the
+     * fast step's block full: MECH's first tick takes it (unused) */
     next_step(m, FOC_COMM_STEP_MECH, FOC_COMM_MODE_OFF);
-    m->iq_block = 0; /* a full block: MECH's first tick takes it (unused) */
+    m->sum[0] = 0;
+    m->sum[1] = 0;
+    m->sum[2] = 0;
+    m->sum[3] = 0;
+    m->u.friction_i.low = 0;
+    m->u.friction_i.high = 0;
+    m->iq_block = 0;
     m->count = (uint16_t)CONTROL_SLOW_DIVIDER;
     return FOC_COMM_HANDOVER;
 }
@@ -435,34 +443,14 @@ FOC_COLD q15_t foc_comm_mech_tick(foc_comm_t *m, q15_t speed)
     m->count = 0; /* last: the fast step sums again */
     const uint16_t length = (level == MECH_LOW || level == MECH_HIGH) ? FOC_COMM_MECH_SUM_N
                                                                       : (uint16_t)FOC_COMM_MECH_WINDOW_TICKS;
-    if (m->ticks == 0u) {
-        if (level == MECH_UP || level == MECH_DOWN) {
-            m->sum[(level == MECH_DOWN) ? 2 : 0] = 0;
-            m->sum[(level == MECH_DOWN) ? 3 : 1] = 0;
-        } else if (level == MECH_LOW) {
-            m->u.friction_i.low = 0;
-        } else if (level == MECH_HIGH) {
-            m->u.friction_i.high = 0;
-        }
-    }
-    /* the sums: |iq|, |speed| < 2^15 over at most 2^15 ticks */
-    switch (level) {
-    case MECH_LOW:
-        m->u.friction_i.low += iq;
-        break;
-    case MECH_UP:
-        m->sum[0] += iq;
-        m->sum[1] += speed;
-        break;
-    case MECH_HIGH:
-        m->u.friction_i.high += iq;
-        break;
-    case MECH_DOWN:
-        m->sum[2] += iq;
-        m->sum[3] += speed;
-        break;
-    default:
-        break;
+    /* the sums (zeroed when MECH began): |iq|, |speed| < 2^15 over at
+     * most 2^15 ticks */
+    if (level == MECH_LOW || level == MECH_HIGH) {
+        *((level == MECH_LOW) ? &m->u.friction_i.low : &m->u.friction_i.high) += iq;
+    } else if (level != MECH_SETTLE) {
+        int32_t *const window = &m->sum[(level == MECH_DOWN) ? 2 : 0];
+        window[0] += iq;
+        window[1] += speed;
     }
     m->ticks++;
     if (m->ticks >= length) {
