@@ -160,12 +160,15 @@ int sim_init(sim_t *s, const sim_options_t *o, const scn_t *scn, char *err,
 
 /* `plant realistic`: the standard realistic plant of issue 13 (README.md,
  * "Plant options"): the switched bridge with the board's dead time, the
- * boards' mid-period sampling, 2 codes of ADC noise, current-sensor gains
- * +2/-2/0 %, 3 % 5th and 1 % 7th back-EMF harmonics. */
+ * sampling instant of the board the core is built for (its
+ * SAMPLE_DELAY_PERIODS: 1.0 mid-period with the duties loaded at the
+ * boundary, 1.5 the sample a half period before that, docs/porting.md),
+ * 2 codes of ADC noise, current-sensor gains +2/-2/0 %, 3 % 5th and 1 %
+ * 7th back-EMF harmonics. */
 static void set_realistic(pmsm_params_t *p)
 {
     p->switched = 1;
-    p->sample_mid_period = 1;
+    p->sample_mid_period = SAMPLE_DELAY_PERIODS < 1.25;
     p->noise_codes = 2.0;
     p->deadtime_s = PWM_DEADTIME_S;
     p->gain_error[0] = 0.02;
