@@ -6,7 +6,12 @@
  *          [--field-weakening off|table|voltage]
  *          [--monitor FILE [--monitor-out FILE]] [--time] [--substeps N]
  *          [--commission-out FILE.ini]
- *          [--measure-from T]
+ *          [--measure-from T] [--report]
+ *
+ * --report adds, per speed step, the settling time, overshoot and steady
+ * error of the true speed, and over the run the angle error's RMS and
+ * peak in RUN, the peak phase current and the time above the current
+ * limit (report.h).
  *
  * --commission-out writes the motor description (tools/tune.py's INI) of
  * a scenario's `commission` (sim.h sim_commission_ini); without valid
@@ -41,6 +46,7 @@
 #include <time.h>
 
 #include "foc/config.h"
+#include "report.h"
 #include "sim.h"
 #include "simmon.h"
 #include "svgplot.h"
@@ -59,6 +65,7 @@ typedef struct {
     const char *monitor_out; /* its output file, NULL: standard output */
     const char *commission_out; /* --commission-out: motor INI, or NULL */
     int time;                /* --time: report the real-time factor */
+    int report;              /* --report: report.h's keys */
     sim_options_t sim;
 } cli_t;
 
@@ -79,7 +86,7 @@ static void usage(FILE *f)
           "              [--monitor FILE [--monitor-out FILE]] [--time] [--substeps N]\n"
           "              [--ideal-inverter]\n"
           "              [--commission-out FILE.ini]\n"
-          "              [--measure-from T]\n",
+          "              [--measure-from T] [--report]\n",
           f);
 }
 
@@ -182,6 +189,7 @@ static int parse_cli(int argc, char **argv, cli_t *cli)
     cli->monitor_out = NULL;
     cli->commission_out = NULL;
     cli->time = 0;
+    cli->report = 0;
     sim_default_options(&cli->sim);
     cli->estimator = foc_est_name(cli->sim.estimator);
     for (int i = 1; i < argc; i++) {
@@ -196,6 +204,10 @@ static int parse_cli(int argc, char **argv, cli_t *cli)
         }
         if (strcmp(opt, "--time") == 0) {
             cli->time = 1;
+            continue;
+        }
+        if (strcmp(opt, "--report") == 0) {
+            cli->report = 1;
             continue;
         }
         if (strcmp(opt, "--ideal-inverter") == 0) {
@@ -364,6 +376,8 @@ int main(int argc, char **argv)
     }
 
     trace_t tr = { 0 };
+    static report_t rep;
+    report_init(&rep, &scn);
     sim_row_t row, last = { 0 };
     char line[512];
     const clock_t t0 = clock();
@@ -372,7 +386,7 @@ int main(int argc, char **argv)
             simmon_run(&mon, sim.t_s); /* commands due before this period */
         }
         /* a row only where one is used: CSV, plot, the summary's last */
-        const int need_row = csv != NULL || cli.plot != NULL || sim_last_period(&sim);
+        const int need_row = csv != NULL || cli.plot != NULL || cli.report || sim_last_period(&sim);
         if (!sim_step(&sim, need_row ? &row : NULL)) {
             break;
         }
@@ -383,6 +397,9 @@ int main(int argc, char **argv)
         }
         if (cli.plot != NULL) {
             trace_add(&tr, &row);
+        }
+        if (cli.report) {
+            report_add(&rep, &row, sim_rpm_from_q15(sim.ctrl.req.speed));
         }
         if (need_row) {
             last = row;
@@ -410,6 +427,9 @@ int main(int argc, char **argv)
     }
     print_summary(&sim, &last, cli.estimator);
     sim_commission_print(&sim, stdout);
+    if (cli.report) {
+        report_print(&rep, stdout);
+    }
     if (cli.commission_out != NULL) {
         FILE *ini = fopen(cli.commission_out, "w");
         const int written = ini != NULL && sim_commission_ini(&sim, ini) == 0;
