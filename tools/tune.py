@@ -109,7 +109,7 @@ PLL_EMF_FILTER_S = 0.2e-3           # AN1292's back-EMF filter, unless the top s
 PLL_PHASE_MARGIN_DEG = 30.0         # the PLL estimator's angle loop at the top speed, at least
 OBSERVER_ERR_MAX_DEG = 1.0          # the Luenberger observer's steady angle error at n_top, at most
 FW_PI_TIME_S = 0.625e-3             # Kp / Ki of the field-weakening PI
-SAMPLES_PER_TURN_MIN = 20.0         # PWM periods per electrical turn at n_top
+SAMPLES_PER_TURN_MIN = 20.0         # PWM periods per electrical turn at max_speed_rpm
 EMF_LOW_FRACTION = 0.15             # back-EMF / voltage base at n_low
 
 
@@ -665,18 +665,25 @@ def choose(motor, board, opt):
     put("CONTROL_SLOW_DIVIDER", divider, 0)
     t_slow = divider / fs
 
-    # speeds: the electrical frequency at the top speed must leave enough
-    # PWM periods per electrical turn
+    # speeds: the electrical frequency at the highest speed the controller
+    # runs (max_speed_rpm: every command is clamped to it) must leave enough
+    # PWM periods per electrical turn; n_top, which may be higher (AN1292's
+    # field-weakening goal of twice the nominal speed), only scales the bases
     n_top = max(motor["max"], 2.0 * motor["nominal"])
     fe_top = n_top * p / 60.0
-    if fe_top * SAMPLES_PER_TURN_MIN > fs:
+    fe_max = motor["max"] * p / 60.0
+    if fe_max * SAMPLES_PER_TURN_MIN > fs:
         raise InputError(
-            "electrical frequency %.0f Hz at %.0f rpm (the larger of max_speed_rpm and twice "
-            "nominal_speed_rpm, x %d pole pairs) is too high for the PWM rate: %s = %g Hz "
-            "gives only %.1f PWM periods per electrical turn, at least %.0f are needed: raise "
-            "pwm_frequency_hz to %.0f Hz or lower the speeds" % (
-                fe_top, n_top, p, board["where"]("pwm_frequency_hz"), fs, fs / fe_top,
-                SAMPLES_PER_TURN_MIN, SAMPLES_PER_TURN_MIN * fe_top))
+            "electrical frequency %.0f Hz at max_speed_rpm %.0f rpm (%s, x %d pole pairs) is "
+            "too high for the PWM rate: %s = %g Hz gives only %.1f PWM periods per electrical "
+            "turn, and the estimators and the current loop need at least %.0f (the rotor "
+            "turns %.0f electrical degrees per period at most: the estimators' angle step, "
+            "the inverse Park's advance and the loop's delay all grow with it): raise "
+            "pwm_frequency_hz to %.0f Hz or lower max_speed_rpm to %.0f rpm" % (
+                fe_max, motor["max"], motor["where"]("max_speed_rpm"), p,
+                board["where"]("pwm_frequency_hz"), fs, fs / fe_max, SAMPLES_PER_TURN_MIN,
+                360.0 / SAMPLES_PER_TURN_MIN, SAMPLES_PER_TURN_MIN * fe_max,
+                60.0 * fs / (SAMPLES_PER_TURN_MIN * p)))
     base = ceil_step(4.0 / 3.0 * n_top)
     put("SPEED_BASE_RPM", base, 6)
 

@@ -136,7 +136,10 @@ BAD = [
      ["inertia_kgm2 (10 kg m^2)", "speed PI"]),
     ("PWM too slow for the electrical frequency", [],
      [("pwm_frequency_hz", "pwm_frequency_hz = 4000")],
-     ["electrical frequency 333 Hz", "pwm_frequency_hz = 4000 Hz", "12.0 PWM periods per"]),
+     # judged at max_speed_rpm (3500 rpm x 5 pole pairs / 60 = 291.7 Hz:
+     # 4000 / 291.7 = 13.7 periods), no longer at twice the nominal speed
+     ["electrical frequency 292 Hz at max_speed_rpm 3500 rpm", "pwm_frequency_hz = 4000 Hz",
+      "13.7 PWM periods per", "raise pwm_frequency_hz to 5833 Hz or lower max_speed_rpm to 2400 rpm"]),
     ("dead time too long", [], [("deadtime_s", "deadtime_s = 10e-6")],
      ["deadtime_s", "20 % of the PWM period"]),
     ("bus above the bus ADC full scale", [], [("vdc_divider_ratio", "vdc_divider_ratio = 0.2")],
