@@ -926,11 +926,19 @@ def checks(e, d):
         (e["CURRENT_LIMIT_A"] < e["BOARD_CURRENT_FULL_SCALE_A"],
          "CURRENT_LIMIT_A must be below BOARD_CURRENT_FULL_SCALE_A"),
         (e["UNDERVOLTAGE_V"] + e["BUS_HYSTERESIS_V"] < e["BOARD_VDC_NOMINAL_V"] and
-         e["OVERVOLTAGE_V"] - e["BUS_HYSTERESIS_V"] > e["BOARD_VDC_NOMINAL_V"] and
-         1.2 * e["OVERVOLTAGE_V"] < e["BOARD_VDC_FULL_SCALE_V"],
-         "the bus thresholds must bracket vdc_nominal_v, and 1.2 x the over-voltage "
-         "(%.4g V) must be below the bus ADC full scale (%.4g V)" % (
-             1.2 * e["OVERVOLTAGE_V"], e["BOARD_VDC_FULL_SCALE_V"])),
+         e["OVERVOLTAGE_V"] - e["BUS_HYSTERESIS_V"] > e["BOARD_VDC_NOMINAL_V"],
+         "the bus thresholds must bracket vdc_nominal_v (%.4g V) by more than the hysteresis "
+         "(%.4g V): under-voltage %.4g V, over-voltage %.4g V" % (
+             e["BOARD_VDC_NOMINAL_V"], e["BUS_HYSTERESIS_V"], e["UNDERVOLTAGE_V"],
+             e["OVERVOLTAGE_V"])),
+        (1.2 * e["OVERVOLTAGE_V"] < e["BOARD_VDC_FULL_SCALE_V"],
+         "the bus ADC full scale (%.4g V: vdc_full_scale_v, or adc_vref_v / vdc_divider_ratio) "
+         "must exceed 1.2 x the over-voltage trip (1.2 x %.4g V = %.4g V), so that the bus "
+         "stays measurable through a regenerative rise past the trip: set overvoltage_v "
+         "(default 4/3 x vdc_nominal_v) lower, at least vdc_nominal_v + %.4g V of hysteresis, "
+         "or use a divider with a larger full scale" % (
+             e["BOARD_VDC_FULL_SCALE_V"], e["OVERVOLTAGE_V"], 1.2 * e["OVERVOLTAGE_V"],
+             e["BUS_HYSTERESIS_V"])),
         (e["BRAKE_RESISTOR_OFF_V"] < e["BRAKE_RESISTOR_ON_V"],
          "brake_off_v must be below brake_on_v"),
         (e["MOTOR_MAX_SPEED_RPM"] < e["SPEED_BASE_RPM"],

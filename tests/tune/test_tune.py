@@ -144,6 +144,11 @@ BAD = [
      ["deadtime_s", "20 % of the PWM period"]),
     ("bus above the bus ADC full scale", [], [("vdc_divider_ratio", "vdc_divider_ratio = 0.2")],
      ["vdc_nominal_v (24 V) must be below the bus ADC full scale (16.5 V"]),
+    # 3.3 V / 0.11 = 30 V of full scale: above the 24 V bus, below 1.2 x its
+    # default 32 V over-voltage (38.4 V)
+    ("bus full scale below 1.2 x the over-voltage", [],
+     [("vdc_divider_ratio", "vdc_divider_ratio = 0.11")],
+     ["full scale (30 V", "1.2 x 32 V = 38.4 V", "set overvoltage_v"]),
     ("missing section", [("[motor]", "[moter]")], [],
      ["no [motor] section"]),
     ("unknown override", [("notes", "notes = x\n[userparms]\nNO_SUCH_PARAM = 1")], [],
