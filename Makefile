@@ -1,13 +1,17 @@
 # Top-level entry points.  The host build lives in build/host (CMake).
 #
 #   make test        configure, build, run the ctest suite (the CI command)
-#   make sim         build focsim and run the default scenario
-#                    -> build/sim/default.csv, build/sim/default.svg
+#   make sim         build focsim and run the default scenario of the build's
+#                    motor -> build/sim/<name>.csv, .svg (<name>: default, or
+#                    the FOC_USERPARMS file's name without .h)
 #   make core-arm    compile the portable core for Cortex-M3 (warnings = errors)
 #
-# FOC_USERPARMS=<path> selects the userparms.h of the host build.
+# FOC_USERPARMS=<path> selects the userparms.h of the host build, which then
+# lives in a folder of its own, build/host-<name> (build/host keeps the
+# default's); BUILD=<dir> chooses another.
 
-BUILD      := build/host
+PARMS_NAME := $(if $(FOC_USERPARMS),$(basename $(notdir $(FOC_USERPARMS))),default)
+BUILD      := $(if $(FOC_USERPARMS),build/host-$(PARMS_NAME),build/host)
 JOBS       ?= 2
 CMAKE_ARGS := -DFOC_USERPARMS="$(FOC_USERPARMS)"
 
@@ -25,10 +29,10 @@ build: configure
 test: build
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
 
-sim: build
+sim: configure
+	cmake --build $(BUILD) --target focsim -j $(JOBS)
 	@mkdir -p build/sim
-	$(BUILD)/focsim --scenario tools/scenarios/default.scn \
-	    --csv build/sim/default.csv --plot build/sim/default.svg
+	$(BUILD)/focsim --csv build/sim/$(PARMS_NAME).csv --plot build/sim/$(PARMS_NAME).svg
 
 # The torture campaign of issue 10 (docs/safety.md, tests/torture):
 #   make torture [TORTURE_SEED=N] [TORTURE_RUNS=M]   random scenarios, seeds

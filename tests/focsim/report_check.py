@@ -31,11 +31,13 @@ def main():
     max_rpm = float(got["report_max_speed_rpm"])
     i_lim = float(got["report_current_limit_a"])
 
-    events, end = [], None
+    events, stops, end = [], [], None
     for line in open(scenario):
         f = line.split("#")[0].split()
         if len(f) >= 2 and f[1] == "speed":
             events.append(float(f[0]))
+        elif len(f) >= 2 and f[1] == "stop":
+            stops.append(float(f[0]))
         elif len(f) >= 2 and f[1] == "end":
             end = float(f[0])
     rows = list(csv.DictReader(open(path)))
@@ -44,8 +46,9 @@ def main():
 
     want = {"report_steps": len(events)}
     for k, t0 in enumerate(events):
-        t1 = events[k + 1] if k + 1 < len(events) else end
-        last = k + 1 == len(events)  # the last step ends with the run
+        # a step ends at the next speed command, a stop, or the end
+        t1 = min([t for t in events + stops if t > t0] + [end])
+        last = t1 == end  # a step that ends with the run keeps its last row
         span = [r for r, tr in zip(rows, t) if t0 <= tr and (tr < t1 or (last and tr <= t1))]
         target = float(span[-1]["speed_ref_rpm"])
         start = float(span[0]["speed_rpm"])

@@ -547,6 +547,26 @@ def focsim_summary(work, focsim, scenario):
         speed, ref))
 
 
+def focsim_default(work, focsim):
+    """focsim without --scenario runs this motor's default scenario: its
+    speeds from motors/test_lowl_highspeed.ini's nominal 10000 rpm (5000,
+    10000, 2500), and the run reaches each and stops without a fault."""
+    text = subprocess.run([focsim, "--print-default-scenario"], capture_output=True,
+                          text=True).stdout
+    print(text)
+    speeds = [float(l.split()[2]) for l in text.splitlines() if l.split()[1:2] == ["speed"]]
+    check(speeds == [5000.0, 10000.0, 2500.0], "speeds 5000, 10000, 2500 rpm (%s)" % speeds)
+    p = subprocess.run([focsim, "--report"], capture_output=True, text=True)
+    print(p.stdout + p.stderr)
+    s = dict(l.split("=", 1) for l in p.stdout.splitlines() if "=" in l)
+    check(p.returncode == 0, "focsim exits 0")
+    check(s.get("final_state") == "IDLE" and s.get("fault") == "NONE",
+          "stopped, no fault (%s, %s)" % (s.get("final_state"), s.get("fault")))
+    for k in (1, 2, 3):
+        settle = float(s.get("step%d_settle_s" % k, "nan"))
+        check(settle == settle, "speed step %d settles within its time (%s s)" % (k, settle))
+
+
 def main():
     case, work = sys.argv[1], sys.argv[2]
     os.makedirs(work, exist_ok=True)
@@ -561,6 +581,8 @@ def main():
         options(work)
     elif case == "gains":
         gains(work)
+    elif case == "focsim_default":
+        focsim_default(work, sys.argv[3])
     elif case == "focsim_summary":
         focsim_summary(work, sys.argv[3], sys.argv[4])
     else:

@@ -6,7 +6,7 @@
  *          [--field-weakening off|table|voltage]
  *          [--monitor FILE [--monitor-out FILE]] [--time] [--substeps N]
  *          [--commission-out FILE.ini]
- *          [--measure-from T] [--report]
+ *          [--measure-from T] [--report] [--print-default-scenario]
  *
  * --report adds, per speed step, the settling time, overshoot and steady
  * error of the true speed, and over the run the angle error's RMS and
@@ -33,7 +33,8 @@
  * no such period.
  *
  * Without --estimator it uses the one userparms.h selects (FOC_ESTIMATOR);
- * without --scenario it runs tools/scenarios/default.scn.  Prints a summary
+ * without --scenario it runs the scenario derived from the build's motor
+ * (default_scenario.h), which --print-default-scenario prints.  Prints a summary
  * of key=value lines at the end (with id_rs_ohm, id_ld_h, id_lq_h,
  * id_flux_wb when the scenario commissioned).  Exit status: 0 after a completed run,
  * 1 on a usage, scenario or file error.
@@ -46,14 +47,12 @@
 #include <time.h>
 
 #include "foc/config.h"
+#include "default_scenario.h"
 #include "report.h"
 #include "sim.h"
 #include "simmon.h"
 #include "svgplot.h"
 
-#ifndef FOCSIM_DEFAULT_SCENARIO
-#define FOCSIM_DEFAULT_SCENARIO "tools/scenarios/default.scn"
-#endif
 
 typedef struct {
     const char *estimator; /* name, for the plot title and summary */
@@ -66,6 +65,7 @@ typedef struct {
     const char *commission_out; /* --commission-out: motor INI, or NULL */
     int time;                /* --time: report the real-time factor */
     int report;              /* --report: report.h's keys */
+    int print_default_scenario; /* --print-default-scenario */
     sim_options_t sim;
 } cli_t;
 
@@ -86,7 +86,7 @@ static void usage(FILE *f)
           "              [--monitor FILE [--monitor-out FILE]] [--time] [--substeps N]\n"
           "              [--ideal-inverter]\n"
           "              [--commission-out FILE.ini]\n"
-          "              [--measure-from T] [--report]\n",
+          "              [--measure-from T] [--report] [--print-default-scenario]\n",
           f);
 }
 
@@ -181,7 +181,7 @@ static int parse_option(cli_t *cli, const char *opt, const char *val)
 
 static int parse_cli(int argc, char **argv, cli_t *cli)
 {
-    cli->scenario = FOCSIM_DEFAULT_SCENARIO;
+    cli->scenario = NULL; /* the motor's default (default_scenario.h) */
     cli->csv = NULL;
     cli->plot = NULL;
     cli->decimate = 1;
@@ -190,6 +190,7 @@ static int parse_cli(int argc, char **argv, cli_t *cli)
     cli->commission_out = NULL;
     cli->time = 0;
     cli->report = 0;
+    cli->print_default_scenario = 0;
     sim_default_options(&cli->sim);
     cli->estimator = foc_est_name(cli->sim.estimator);
     for (int i = 1; i < argc; i++) {
@@ -208,6 +209,10 @@ static int parse_cli(int argc, char **argv, cli_t *cli)
         }
         if (strcmp(opt, "--report") == 0) {
             cli->report = 1;
+            continue;
+        }
+        if (strcmp(opt, "--print-default-scenario") == 0) {
+            cli->print_default_scenario = 1;
             continue;
         }
         if (strcmp(opt, "--ideal-inverter") == 0) {
@@ -344,7 +349,17 @@ int main(int argc, char **argv)
     }
     scn_t scn;
     char err[512];
-    if (scn_parse_file(cli.scenario, &scn, err, sizeof err) != 0) {
+    char default_text[1024];
+    if (cli.scenario == NULL && sim_default_scenario(default_text, sizeof default_text) < 0) {
+        fprintf(stderr, "focsim: the default scenario does not fit its buffer\n");
+        return 1;
+    }
+    if (cli.print_default_scenario) {
+        fputs(default_text, stdout);
+        return 0;
+    }
+    if ((cli.scenario != NULL) ? scn_parse_file(cli.scenario, &scn, err, sizeof err) != 0
+                               : scn_parse_text(default_text, "default scenario", &scn, err, sizeof err) != 0) {
         fprintf(stderr, "focsim: %s\n", err);
         return 1;
     }

@@ -10,19 +10,26 @@ void report_init(report_t *r, const scn_t *scn)
     memset(r, 0, sizeof *r);
     r->current = -1;
     r->dt_s = 1.0 / PWM_FREQUENCY_HZ;
-    for (size_t k = 0; k < scn->count && r->n_steps < REPORT_STEPS_MAX; k++) {
-        if (scn->events[k].kind != SCN_SPEED) {
+    /* a step ends at the next speed command, a stop, or the end */
+    int open = 0;
+    for (size_t k = 0; k < scn->count; k++) {
+        const scn_kind_t kind = scn->events[k].kind;
+        if (kind != SCN_SPEED && kind != SCN_STOP) {
             continue;
         }
-        report_step_t *s = &r->steps[r->n_steps];
-        s->t0_s = scn->events[k].t_s;
-        s->last_outside_s = -INFINITY;
-        if (r->n_steps > 0) {
-            r->steps[r->n_steps - 1].t_end_s = s->t0_s;
+        if (open) {
+            r->steps[r->n_steps - 1].t_end_s = scn->events[k].t_s;
+            open = 0;
         }
-        r->n_steps++;
+        if (kind == SCN_SPEED && r->n_steps < REPORT_STEPS_MAX) {
+            report_step_t *s = &r->steps[r->n_steps];
+            s->t0_s = scn->events[k].t_s;
+            s->last_outside_s = -INFINITY;
+            r->n_steps++;
+            open = 1;
+        }
     }
-    if (r->n_steps > 0) {
+    if (open) {
         r->steps[r->n_steps - 1].t_end_s = scn->end_s;
     }
 }
@@ -57,7 +64,7 @@ void report_add(report_t *r, const sim_row_t *row, double command_rpm)
         r->steps[r->current].start_rpm = row->speed_rpm;
         r->steps[r->current].target_rpm = command_rpm;
     }
-    if (r->current >= 0) {
+    if (r->current >= 0 && row->t_s < r->steps[r->current].t_end_s) {
         step_add(&r->steps[r->current], row, r->dt_s);
     }
     if (strcmp(row->state, "RUN") == 0) {

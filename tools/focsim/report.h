@@ -3,8 +3,8 @@
  * on the plant's true values (the rows' speed_rpm, theta_e_deg, phase
  * currents), never on what the controller says about itself.
  *
- * Per speed step (each scenario `speed` event, to the next one or the
- * end): the target (the command as the controller accepted it, its clamps
+ * Per speed step (each scenario `speed` event, to the next one, a `stop`
+ * or the end): the target (the command as the controller accepted it, its clamps
  * included: the caller passes it), the settling time (from the
  * event until the true speed stays within the band REPORT_BAND_PCT of the
  * target, or of the maximum speed for a target of zero; NaN if it never
