@@ -445,10 +445,10 @@ SHINANO_BUILD := build/shinano
 
 .PHONY: pil pil-deps
 
-$(PIL_OUT)/libpilplant.so: tools/pil/pil_plant.c tests/model/pmsm_model.c tests/model/pmsm_model.h \
+$(PIL_OUT)/libpilplant.so: tools/pil/pil_plant.c tools/plant/pmsm_model.c tools/plant/pmsm_model.h \
                            $(PIL_PARMS) $(wildcard include/foc/*.h)
 	@mkdir -p $(@D)
-	gcc -std=c11 -O2 -fPIC -shared -Wall -Wextra -Itests/model -Iinclude \
+	gcc -std=c11 -O2 -fPIC -shared -Wall -Wextra -Itools/plant -Iinclude \
 	    -DFOC_USERPARMS_FILE='"$(PIL_PARMS)"' $< -o $@ -lm
 
 $(PIL_OUT)/ctrl_layout.o: tools/pil/ctrl_layout.c $(wildcard include/foc/*.h) $(PIL_PARMS)

@@ -84,7 +84,7 @@ fi
 if [ -d hal/host ]; then
     known="$known hal/host"
     # shellcheck disable=SC2046
-    unit host "$PARMS_DEFAULT" "-Ihal/host -Itests/model" $(ls hal/host/*.c)
+    unit host "$PARMS_DEFAULT" "-Ihal/host -Itools/plant" $(ls hal/host/*.c)
 fi
 halinc=$(for d in hal/*/; do printf ' -I%s' "${d%/}"; done)
 for d in hal/*/ boards/*/; do

@@ -1,7 +1,7 @@
 """The STM32F103 around the FOC image: Unicorn's Cortex-M3 core, the cycle
 model of tools/bench/bench.py (imported, not copied) plus a flash
 wait-state model, a software NVIC, the peripheral models of periph.py, and
-the project's motor model (tests/model, through build/pil/libpilplant.so)
+the project's motor model (tools/plant, through build/pil/libpilplant.so)
 fed from the PWM the image generates."""
 
 import ctypes

@@ -1,5 +1,5 @@
 /*
- * The project's motor model (tests/model/pmsm_model.c, compiled in as it
+ * The project's motor model (tools/plant/pmsm_model.c, compiled in as it
  * is) with a flat C interface for tools/pil (ctypes).  The processor-in-
  * the-loop run changes duties and bridge modes at the instants the image's
  * timer really changes them (update events, MOE, break), and samples at
@@ -9,7 +9,7 @@
  * (integrate_substep), the substep length no longer than the model's
  * (1 / (pwm_hz x substeps)).  Nothing of the model is changed.
  */
-#include "../../tests/model/pmsm_model.c"
+#include "../plant/pmsm_model.c"
 
 typedef struct {
     pmsm_model_t m;
