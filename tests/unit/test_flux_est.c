@@ -1,101 +1,31 @@
 /*
  * Flux-linkage estimator and speed observer (foc/flux_est.h,
  * foc/speed_obs.h) on the signals of an ideal motor generated in double
- * precision from the build's userparms.h: the currents at each sample and
- * the exact average voltage over each period (R times the mean current plus
- * the flux change), optionally with DC offsets on what the estimator sees.
+ * precision from the build's userparms.h (tests/common/ideal_pmsm.h): the
+ * currents at each sample and the exact average voltage over each period
+ * (R times the mean current plus the flux change), optionally with DC
+ * offsets on what the estimator sees.
  */
 #include <math.h>
 #include <stdint.h>
 
 #include "foc/config.h"
 #include "foc/flux_est.h"
+#include "ideal_pmsm.h"
 #include "testkit.h"
 
-#define SUBSTEPS 16 /* mean current over a period: midpoint rule */
 #define RPM_TO_WE (MOTOR_POLE_PAIRS * 2.0 * FOC_PI_D / 60.0)
 
-typedef struct {
-    double theta;          /* electrical angle, rad */
-    double we;             /* electrical speed, rad/s */
-    double id, iq;         /* rotor-frame currents, A */
-    double i_off[2];       /* offsets on the measured alpha/beta current, A */
-    double v_off[2];       /* offsets on the alpha/beta voltage, V */
-    foc_ab_t v_last, i_now;/* estimator inputs, Q15 */
-} motor_t;
+static const ideal_pmsm_params_t motor = IDEAL_PMSM_USERPARMS;
 
-static q15_t to_q15(double x)
+static void motor_init(ideal_pmsm_t *m, double theta_deg, double rpm, double iq)
 {
-    const double r = floor(x * 32768.0 + 0.5);
-    return (q15_t)(r > 32767.0 ? 32767 : r < -32768.0 ? -32768 : r);
+    ideal_pmsm_init(m, &motor, theta_deg * FOC_PI_D / 180.0, rpm * RPM_TO_WE, 0.0, iq);
 }
 
-static void current_ab(double theta, double id, double iq, double *ia, double *ib)
+static double angle_err_deg(const foc_flux_est_t *f, const ideal_pmsm_t *m)
 {
-    *ia = id * cos(theta) - iq * sin(theta);
-    *ib = id * sin(theta) + iq * cos(theta);
-}
-
-/* Stator flux L i + psi_m e^(j theta), Wb. */
-static void stator_flux(double theta, double id, double iq, double *fa, double *fb)
-{
-    double ia, ib;
-    current_ab(theta, id, iq, &ia, &ib);
-    *fa = MOTOR_LQ_H * ia + FOC_FLUX_WB * cos(theta);
-    *fb = MOTOR_LQ_H * ib + FOC_FLUX_WB * sin(theta);
-}
-
-static void sample(motor_t *m)
-{
-    double ia, ib;
-    current_ab(m->theta, m->id, m->iq, &ia, &ib);
-    m->i_now.alpha = to_q15((ia + m->i_off[0]) / FOC_I_BASE_A);
-    m->i_now.beta = to_q15((ib + m->i_off[1]) / FOC_I_BASE_A);
-}
-
-static void motor_init(motor_t *m, double theta_deg, double rpm, double iq)
-{
-    m->theta = theta_deg * FOC_PI_D / 180.0;
-    m->we = rpm * RPM_TO_WE;
-    m->id = 0.0;
-    m->iq = iq;
-    m->i_off[0] = m->i_off[1] = 0.0;
-    m->v_off[0] = m->v_off[1] = 0.0;
-    m->v_last.alpha = m->v_last.beta = 0;
-    sample(m);
-}
-
-/* One PWM period at electrical acceleration `accel` (rad/s^2) with iq
- * moving linearly to `iq_end`; then samples. */
-static void motor_period(motor_t *m, double accel, double iq_end)
-{
-    const double h = FOC_TS_S / SUBSTEPS;
-    double fa0, fb0, fa1, fb1, sum_a = 0.0, sum_b = 0.0;
-    stator_flux(m->theta, m->id, m->iq, &fa0, &fb0);
-    for (int n = 0; n < SUBSTEPS; n++) {
-        const double t = (n + 0.5) * h;
-        const double th = m->theta + m->we * t + 0.5 * accel * t * t;
-        const double iq = m->iq + (iq_end - m->iq) * t / FOC_TS_S;
-        double ia, ib;
-        current_ab(th, m->id, iq, &ia, &ib);
-        sum_a += ia;
-        sum_b += ib;
-    }
-    m->theta = fmod(m->theta + m->we * FOC_TS_S + 0.5 * accel * FOC_TS_S * FOC_TS_S,
-                    2.0 * FOC_PI_D);
-    m->we += accel * FOC_TS_S;
-    m->iq = iq_end;
-    stator_flux(m->theta, m->id, m->iq, &fa1, &fb1);
-    const double va = MOTOR_RS_OHM * sum_a / SUBSTEPS + (fa1 - fa0) / FOC_TS_S;
-    const double vb = MOTOR_RS_OHM * sum_b / SUBSTEPS + (fb1 - fb0) / FOC_TS_S;
-    m->v_last.alpha = to_q15((va + m->v_off[0]) / FOC_V_BASE_V);
-    m->v_last.beta = to_q15((vb + m->v_off[1]) / FOC_V_BASE_V);
-    sample(m);
-}
-
-static double angle_err_deg(const foc_flux_est_t *f, const motor_t *m)
-{
-    return remainder(f->theta * (360.0 / 65536.0) - m->theta * 180.0 / FOC_PI_D, 360.0);
+    return ideal_pmsm_angle_err_deg(f->theta, m);
 }
 
 static double speed_rpm(const foc_flux_est_t *f)
@@ -103,10 +33,10 @@ static double speed_rpm(const foc_flux_est_t *f)
     return foc_flux_speed(f) * (SPEED_BASE_RPM / 32768.0);
 }
 
-static void step(foc_flux_est_t *f, motor_t *m, double accel, double iq_end)
+static void step(foc_flux_est_t *f, ideal_pmsm_t *m, double accel, double iq_end)
 {
-    motor_period(m, accel, iq_end);
-    foc_flux_step(f, m->v_last, m->i_now, to_q15(iq_end / FOC_I_BASE_A));
+    ideal_pmsm_period(m, accel, iq_end);
+    foc_flux_step(f, m->v_last, m->i_now, ideal_q15(iq_end / FOC_I_BASE_A));
 }
 
 typedef struct {
@@ -114,17 +44,18 @@ typedef struct {
 } errs_t;
 
 /* Runs n periods at constant speed and measures the last `window`. */
-static errs_t run_steady(foc_flux_est_t *f, motor_t *m, long n, long window)
+static errs_t run_steady(foc_flux_est_t *f, ideal_pmsm_t *m, long n, long window)
 {
     errs_t e = { 0.0, 0.0, 0.0 };
     double sum = 0.0;
     for (long k = 0; k < n; k++) {
-        step(f, m, 0.0, m->iq);
+        step(f, m, 0.0, m->iq_a);
         if (k >= n - window) {
             const double a = angle_err_deg(f, m);
             sum += a * a;
             e.peak_deg = fmax(e.peak_deg, fabs(a));
-            e.speed_peak_rpm = fmax(e.speed_peak_rpm, fabs(speed_rpm(f) - m->we / RPM_TO_WE));
+            e.speed_peak_rpm =
+                fmax(e.speed_peak_rpm, fabs(speed_rpm(f) - m->we_rad_s / RPM_TO_WE));
         }
     }
     e.rms_deg = sqrt(sum / (double)window);
@@ -142,7 +73,7 @@ static void case_converges_both_directions(void)
     const foc_ab_t zero = { 0, 0 };
     for (size_t i = 0; i < sizeof rpms / sizeof rpms[0]; i++) {
         for (size_t j = 0; j < sizeof iqs / sizeof iqs[0]; j++) {
-            motor_t m;
+            ideal_pmsm_t m;
             foc_flux_est_t f;
             motor_init(&m, 77.0 + 40.0 * (double)i, rpms[i], iqs[j]);
             foc_flux_reset(&f, 0, 0, zero);
@@ -167,11 +98,11 @@ static void case_unknown_start_rotation(void)
     for (size_t i = 0; i < sizeof rpms / sizeof rpms[0]; i++) {
         double worst_rad = 0.0;
         for (double a = -165.0; a < 180.0; a += 30.0) {
-            motor_t m;
+            ideal_pmsm_t m;
             foc_flux_est_t f;
             motor_init(&m, a, rpms[i], 0.0);
             foc_flux_reset(&f, 0, 0, zero);
-            const long n = (long)(8.0 * 2.0 * FOC_PI_D / fabs(m.we) / FOC_TS_S);
+            const long n = (long)(8.0 * 2.0 * FOC_PI_D / fabs(m.we_rad_s) / FOC_TS_S);
             long last_out = 0;
             for (long k = 1; k <= n; k++) {
                 step(&f, &m, 0.0, 0.0);
@@ -179,7 +110,7 @@ static void case_unknown_start_rotation(void)
                     last_out = k;
                 }
             }
-            worst_rad = fmax(worst_rad, fabs(m.we) * (double)last_out * FOC_TS_S);
+            worst_rad = fmax(worst_rad, fabs(m.we_rad_s) * (double)last_out * FOC_TS_S);
         }
         printf("%5.0f rpm: within 5 deg after %.1f electrical rad (worst initial angle)\n",
                rpms[i], worst_rad);
@@ -192,11 +123,11 @@ static void case_reset_handover(void)
 {
     static const double rpms[] = { 500.0, -2000.0 };
     for (size_t i = 0; i < 2; i++) {
-        motor_t m;
+        ideal_pmsm_t m;
         foc_flux_est_t f;
         motor_init(&m, 200.0, rpms[i], 0.8);
         foc_flux_reset(&f, (uint16_t)(200.0 / 360.0 * 65536.0),
-                       to_q15(rpms[i] / SPEED_BASE_RPM), m.i_now);
+                       ideal_q15(rpms[i] / SPEED_BASE_RPM), m.i_now);
         const errs_t e = run_steady(&f, &m, 2000, 2000);
         printf("hand-over %6.0f rpm: angle peak %.4f deg, speed peak err %.3f rpm\n", rpms[i],
                e.peak_deg, e.speed_peak_rpm);
@@ -224,18 +155,18 @@ static void case_drift_bounded_with_offsets(void)
     const long early = (long)(2.0 / FOC_TS_S);
     const long window = (long)(0.5 / FOC_TS_S);
     for (size_t i = 0; i < 3; i++) {
-        motor_t m;
+        ideal_pmsm_t m;
         foc_flux_est_t f;
         motor_init(&m, 30.0, rpms[i], 0.5);
-        foc_flux_reset(&f, (uint16_t)(30.0 / 360.0 * 65536.0), to_q15(rpms[i] / SPEED_BASE_RPM),
+        foc_flux_reset(&f, (uint16_t)(30.0 / 360.0 * 65536.0), ideal_q15(rpms[i] / SPEED_BASE_RPM),
                        m.i_now);
         for (int a = 0; a < 2; a++) {
-            m.i_off[a] = i_off[a];
-            m.v_off[a] = v_off[a];
+            m.i_off_a[a] = i_off[a];
+            m.v_off_v[a] = v_off[a];
         }
         double peak_early = 0.0, peak_late = 0.0, flux_min = 1e9, flux_max = 0.0;
         for (long k = 0; k < n; k++) {
-            step(&f, &m, 0.0, m.iq);
+            step(&f, &m, 0.0, m.iq_a);
             const double a = fabs(angle_err_deg(&f, &m));
             if (k >= early - window && k < early) {
                 peak_early = fmax(peak_early, a);
@@ -277,11 +208,11 @@ static void case_speed_ramp_feedforward(void)
     static const double dirs[] = { 1.0, -1.0 };
     for (size_t d = 0; d < 2; d++) {
         const double s = dirs[d];
-        motor_t m;
+        ideal_pmsm_t m;
         foc_flux_est_t f;
         motor_init(&m, 10.0, s * 200.0, 0.0);
-        foc_flux_reset(&f, (uint16_t)(10.0 / 360.0 * 65536.0), to_q15(s * 200.0 / SPEED_BASE_RPM),
-                       m.i_now);
+        foc_flux_reset(&f, (uint16_t)(10.0 / 360.0 * 65536.0),
+                       ideal_q15(s * 200.0 / SPEED_BASE_RPM), m.i_now);
         (void)run_steady(&f, &m, 2000, 1);
         double lag_peak = 0.0, angle_peak = 0.0;
         const long n_ramp = (long)(1800.0 / ramp_rpm_s / FOC_TS_S);
@@ -291,7 +222,7 @@ static void case_speed_ramp_feedforward(void)
             for (long k = 0; k < n_ramp; k++) {
                 step(&f, &m, a, iq);
                 if (k > 200) { /* after the current step's first periods */
-                    lag_peak = fmax(lag_peak, fabs(speed_rpm(&f) - m.we / RPM_TO_WE));
+                    lag_peak = fmax(lag_peak, fabs(speed_rpm(&f) - m.we_rad_s / RPM_TO_WE));
                     angle_peak = fmax(angle_peak, fabs(angle_err_deg(&f, &m)));
                 }
             }
@@ -308,12 +239,12 @@ static void case_speed_ramp_feedforward(void)
  * returns to zero. */
 static void case_observer_learns_load(void)
 {
-    motor_t m;
+    ideal_pmsm_t m;
     foc_flux_est_t f;
     motor_init(&m, 0.0, 800.0, 0.0);
-    foc_flux_reset(&f, 0, to_q15(800.0 / SPEED_BASE_RPM), m.i_now);
+    foc_flux_reset(&f, 0, ideal_q15(800.0 / SPEED_BASE_RPM), m.i_now);
     (void)run_steady(&f, &m, 1000, 1);
-    m.iq = 1.2; /* balances a load: no acceleration */
+    m.iq_a = 1.2; /* balances a load: no acceleration */
     const errs_t e = run_steady(&f, &m, (long)(0.1 / FOC_TS_S), (long)(0.02 / FOC_TS_S));
     const double load_a = f.obs.load / 134217728.0 * FOC_I_BASE_A;
     printf("unknown load: speed err peak %.3f rpm, load estimate %.3f A (1.2)\n",
