@@ -58,18 +58,25 @@ static void reverse(const limits_t *lim)
     }
 }
 
-/* The real motor: Rs +30 %, Ls -20 %, flux -10 % from userparms.h. */
+/* The real motor: Rs +30 %, Ls -20 %, flux -10 % from userparms.h.
+ * Limits from what the three estimators measure (Hurst075): no load RMS
+ * 0.107-0.118 deg, peak 0.242-0.372 deg -> 0.5 and 1.2 deg; 0.05 Nm RMS
+ * 2.87-2.90 deg, peak 2.97-3.03 deg (the bias dL iq / psi) -> 10 and
+ * 10 deg.  (The peak was limited at 180 deg, which the error, wrapped by
+ * remainder(.., 360), can never exceed.) */
 static void detuned(const limits_t *lim)
 {
     char plant[256];
     est_detuned_plant(plant, sizeof plant);
     const double loads[] = { 0.0, 0.05 };
+    const double rms_max[] = { 0.5, 10.0 };
+    const double peak_max[] = { 1.2, 10.0 };
     for (size_t j = 0; j < 2; j++) {
         const est_case_t c = { 1000.0, loads[j], 160.0, plant, 0, 0 };
         char label[64];
         snprintf(label, sizeof label, "%s detuned 1000 rpm %.2f Nm", foc_est_name(lim->kind),
                  loads[j]);
-        check_case(lim, label, &c, 10.0, 180.0);
+        check_case(lim, label, &c, rms_max[j], peak_max[j]);
     }
 }
 
