@@ -220,8 +220,12 @@ static void case_no_false_trip(void)
 }
 
 /* One fault class: trips (name, outputs off within `off_within_s`), stays
- * latched while the cause lasts and until `ack`, then the motor restarts. */
-static void check_fault(const char *name, const char *inject, const char *clear,
+ * latched while the cause lasts and until `ack`, then the motor restarts.
+ * The cause `inject` lies just beyond the threshold (1.5 %: a threshold
+ * scaled wrong by more than that fails one of the two runs), and the same
+ * cause just short of it (`near`, 1.5 % the other side; NULL for the
+ * over-current pulse) runs on without a fault. */
+static void check_fault(const char *name, const char *inject, const char *near, const char *clear,
                         double off_within_s)
 {
     /* An ack while the cause lasts (0.9 s) and starts before the ack
@@ -253,9 +257,10 @@ static void check_fault(const char *name, const char *inject, const char *clear,
     const char *at_139 = r.rows[run_index_at(&r, 1.39)].state;
     const double t_restart = run_first_state(&r, 1.5, "RUN");
     const double speed = run_mean_speed(&r, 2.3, 2.4);
-    printf("%-14s trip %.2f ms after the cause, outputs off %.2f ms after; latched after an "
-           "early ack: %s; after the cause: %s; restarted: RUN at %.3f s, %.1f rpm\n",
-           name, (t_trip - 0.6) * 1e3, (t_off - t_trip) * 1e3, at_099, at_139, t_restart, speed);
+    printf("%-14s (%s) trip %.2f ms after the cause, outputs off %.2f ms after; latched after "
+           "an early ack: %s; after the cause: %s; restarted: RUN at %.3f s, %.1f rpm\n",
+           name, inject, (t_trip - 0.6) * 1e3, (t_off - t_trip) * 1e3, at_099, at_139, t_restart,
+           speed);
     TK_CHECK(t_trip >= 0.6 && t_trip - 0.6 <= off_within_s, "%s: trip at %.4f s", name, t_trip);
     TK_CHECK(t_off >= 0.0 && t_off - 0.6 <= off_within_s, "%s: outputs off at %.4f s", name, t_off);
     TK_CHECK(strcmp(at_099, "FAULT") == 0, "%s: not latched at 0.99 s (%s)", name, at_099);
@@ -264,27 +269,51 @@ static void check_fault(const char *name, const char *inject, const char *clear,
              "%s: no restart (RUN %.3f s, %.1f rpm, %s)", name, t_restart, speed,
              foc_fault_name(r.fault));
     run_free(&r);
+    if (near == NULL) {
+        return;
+    }
+    snprintf(text, sizeof text, "0 start\n0 speed 1000\n0.6 %s\n1.2 end\n", near);
+    run_default(text, &r);
+    const double speed_near = run_mean_speed(&r, 1.1, 1.2);
+    printf("%-14s (%s) just short of the threshold: final %s, fault %s, %.1f rpm\n", name, near,
+           foc_state_name(r.final_state), foc_fault_name(r.fault), speed_near);
+    TK_CHECK(r.fault == 0 && r.final_state == FOC_STATE_RUN, "%s: %s tripped (%s, %s)", name, near,
+             foc_state_name(r.final_state), foc_fault_name(r.fault));
+    run_free(&r);
 }
 
 static void case_fault_overcurrent(void)
 {
     /* The cause is a pulse; the latch holds until ack. */
-    check_fault("OVERCURRENT", "overcurrent", "temp 25", 1.0 / PWM_FREQUENCY_HZ);
+    check_fault("OVERCURRENT", "overcurrent", NULL, "temp 25", 1.0 / PWM_FREQUENCY_HZ);
+}
+
+/* "vdc <v>" or "temp <degC>" at `ratio` x `value` */
+static const char *cause(char *buf, size_t len, const char *what, double value, double ratio)
+{
+    snprintf(buf, len, "%s %.3f", what, ratio * value);
+    return buf;
 }
 
 static void case_fault_overvoltage(void)
 {
-    check_fault("OVERVOLTAGE", "vdc 40", "vdc 24", FOC_SLOW_TS_S);
+    char above[32], below[32];
+    check_fault("OVERVOLTAGE", cause(above, sizeof above, "vdc", OVERVOLTAGE_V, 1.015),
+                cause(below, sizeof below, "vdc", OVERVOLTAGE_V, 0.985), "vdc 24", FOC_SLOW_TS_S);
 }
 
 static void case_fault_undervoltage(void)
 {
-    check_fault("UNDERVOLTAGE", "vdc 12", "vdc 24", FOC_SLOW_TS_S);
+    char above[32], below[32];
+    check_fault("UNDERVOLTAGE", cause(below, sizeof below, "vdc", UNDERVOLTAGE_V, 0.985),
+                cause(above, sizeof above, "vdc", UNDERVOLTAGE_V, 1.015), "vdc 24", FOC_SLOW_TS_S);
 }
 
 static void case_fault_overtemp(void)
 {
-    check_fault("OVERTEMP", "temp 120", "temp 25", FOC_SLOW_TS_S);
+    char above[32], below[32];
+    check_fault("OVERTEMP", cause(above, sizeof above, "temp", OVERTEMP_DEGC, 1.015),
+                cause(below, sizeof below, "temp", OVERTEMP_DEGC, 0.985), "temp 25", FOC_SLOW_TS_S);
 }
 
 /* Stops from 2000 rpm: shorted windings and the brake resistor (on a

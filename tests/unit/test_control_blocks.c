@@ -4,6 +4,7 @@
  * compensation, the voltage and current limit circles.
  */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -41,24 +42,75 @@ static void case_faults_first_latched(void)
     TK_CHECK(strcmp(foc_fault_name(FOC_FAULT_SPEED_FEEDBACK), "SPEED_FEEDBACK") == 0, "sf");
 }
 
-/* Table mode: below the start the first entry, past the end the last one
- * (the index never leaves the table), interpolation in between. */
+/* Table mode.  The default Id table (without FW_ID_TABLE) holds, at each
+ * of its 18 speeds from FW_START_RPM to FW_END_RPM, the d current whose
+ * no-load voltage w (psi + Ld id) is the field-weakening target Vfw =
+ * Vdc / sqrt(3) x VOLTAGE_LIMIT_FRACTION x FW_VOLTAGE_MARGIN, within
+ * [-FW_ID_MAX_A, 0].  Checked here by that balance on the current the
+ * table gives (not by config.h's expression that builds the table), psi
+ * from MOTOR_KE_VPK_PER_KRPM (V peak line to line per 1000 rpm).
+ * Hurst075 by hand: Vfw = 24 / 1.7321 x 0.95 x 0.95 = 12.505 V; psi =
+ * 7.24 / 1.7321 / (1000 x 5 x 2 pi / 60) = 7.983 mWb; at 4500 rpm (w =
+ * 2356.2 rad/s, no-load EMF 18.81 V) id = (12.505 / 2356.2 - 7.983e-3) /
+ * 1.92e-3 = -1.394 A, and 2356.2 x (7.983e-3 - 1.92e-3 x 1.394) = 12.505 V;
+ * at 2000 rpm (EMF 8.36 V < 12.505 V) none is needed: 0.
+ * Below the start the first entry, past the end the last one (the index
+ * never leaves the table), linear interpolation in between. */
+static q15_t fw_table_at(foc_fw_t *fw, double rpm)
+{
+    return foc_fw_step(fw, (q15_t)lround(rpm / SPEED_BASE_RPM * 32768.0), 0, Q15(0.9));
+}
+
 static void case_fw_table_bounds(void)
 {
     foc_fw_t fw;
     foc_fw_init(&fw);
     fw.mode = FW_MODE_TABLE;
-    const q15_t first = FOC_FW_ID_AT(0);
-    const q15_t last = FOC_FW_ID_AT(17);
-    TK_CHECK(foc_fw_step(&fw, 0, 0, Q15(0.9)) == first, "at 0: %d", fw.id_ref);
+    const double pi = 3.14159265358979323846;
+    const double amp_per_count = BOARD_CURRENT_FULL_SCALE_A / 32768.0;
+    const double psi = MOTOR_KE_VPK_PER_KRPM / sqrt(3.0) / (1000.0 * MOTOR_POLE_PAIRS * 2.0 * pi / 60.0);
+    const double v_fw = BOARD_VDC_NOMINAL_V / sqrt(3.0) * VOLTAGE_LIMIT_FRACTION * FW_VOLTAGE_MARGIN;
+    const double spacing_rpm = (FW_END_RPM - FW_START_RPM) / 17.0;
+#ifndef FW_ID_TABLE
+    double worst_v = 0.0;
+    for (int i = 0; i < 18; i++) {
+        const double rpm = FW_START_RPM + i * spacing_rpm;
+        const double w = rpm * MOTOR_POLE_PAIRS * 2.0 * pi / 60.0;
+        const double id = fw_table_at(&fw, rpm) * amp_per_count;
+        const double v = w * (psi + MOTOR_LD_H * id); /* no-load q voltage */
+        if (w * psi <= v_fw) {
+            TK_CHECK(id == 0.0, "%.0f rpm: EMF %.3f V within %.3f V, yet id %.4f A", rpm,
+                     w * psi, v_fw, id);
+        } else if (w * (psi - MOTOR_LD_H * FW_ID_MAX_A) >= v_fw) {
+            TK_CHECK(fabs(id + FW_ID_MAX_A) <= amp_per_count,
+                     "%.0f rpm: -FW_ID_MAX_A leaves %.3f V, yet id %.4f A", rpm,
+                     w * (psi - MOTOR_LD_H * FW_ID_MAX_A), id);
+        } else {
+            worst_v = fmax(worst_v, fabs(v - v_fw));
+            /* within two current counts' worth, w Ld x 2 counts (the
+             * entry's rounding and the speed's: 1.2 mV at 4500 rpm on the
+             * Hurst075, where 0.21 mV is measured) */
+            const double tol_v = w * MOTOR_LD_H * 2.0 * amp_per_count;
+            TK_CHECK(fabs(v - v_fw) <= tol_v, "%.0f rpm: id %.4f A leaves %.4f V, want %.4f V +- %.4f V",
+                     rpm, id, v, v_fw, tol_v);
+        }
+    }
+    printf("Id table: worst no-load voltage off the target %.2f mV (of %.3f V)\n", worst_v * 1e3,
+           v_fw);
+#endif
+    const q15_t first = fw_table_at(&fw, FW_START_RPM);
+    const q15_t last = fw_table_at(&fw, FW_END_RPM);
+    TK_CHECK(foc_fw_step(&fw, 0, 0, Q15(0.9)) == first, "at 0: %d, first %d", fw.id_ref, first);
     TK_CHECK(foc_fw_step(&fw, Q15_MAX, 0, Q15(0.9)) == last, "at max: %d", fw.id_ref);
     TK_CHECK(foc_fw_step(&fw, Q15_MIN, 0, Q15(0.9)) == last, "at -max: %d", fw.id_ref);
-    /* halfway between entries 4 and 5 */
-    const double rpm = FW_START_RPM + 4.5 * (FW_END_RPM - FW_START_RPM) / 17.0;
-    const q15_t mid = foc_fw_step(&fw, FOC_SPEED_Q15(rpm), 0, Q15(0.9));
-    const double expect = 0.5 * (FOC_FW_ID_AT(4) + FOC_FW_ID_AT(5));
-    TK_CHECK(fabs(mid - expect) <= 3.0, "interpolated %d, expected %.1f", mid, expect);
-    TK_CHECK(last < 0 && last >= -FOC_FW_ID_MAX, "last entry %d", last);
+    /* halfway between entries 15 and 16 (both weakening on the Hurst075:
+     * -1.200 and -1.300 A): their mean */
+    const q15_t e15 = fw_table_at(&fw, FW_START_RPM + 15.0 * spacing_rpm);
+    const q15_t e16 = fw_table_at(&fw, FW_START_RPM + 16.0 * spacing_rpm);
+    const q15_t mid = fw_table_at(&fw, FW_START_RPM + 15.5 * spacing_rpm);
+    TK_CHECK(fabs(mid - 0.5 * (e15 + e16)) <= 3.0, "interpolated %d between %d and %d", mid, e15,
+             e16);
+    TK_CHECK(last < 0 && last * amp_per_count >= -FW_ID_MAX_A - amp_per_count, "last entry %d", last);
 }
 
 /* Voltage mode: Id stays 0 below the voltage target, goes negative above
@@ -82,79 +134,198 @@ static void case_fw_voltage_mode(void)
     TK_CHECK(fw.id_ref == 0, "recovers: %d", fw.id_ref);
 }
 
+/* The readings the thresholds are compared with, worked out here from
+ * volts and degrees: the bus as Q15 of BOARD_VDC_FULL_SCALE_V, the
+ * temperature sensor's BOARD_TEMP_V_AT_0C + BOARD_TEMP_V_PER_DEGC x degC as
+ * Q15 of BOARD_ADC_VREF_V. */
+static q15_t vdc_reading(double volts)
+{
+    return (q15_t)lround(volts / BOARD_VDC_FULL_SCALE_V * 32768.0);
+}
+
+static q15_t temp_reading(double degc)
+{
+    return (q15_t)lround((BOARD_TEMP_V_AT_0C + BOARD_TEMP_V_PER_DEGC * degc) / BOARD_ADC_VREF_V *
+                         32768.0);
+}
+
+/* Each threshold 1 % either side (a threshold scaled wrong by more than
+ * 1 % fails): trips at 1.01 x, not at 0.99 x (under-voltage the other way
+ * round), and once tripped its cause is gone only 1 % beyond the
+ * hysteresis.  On the Hurst075 board by hand: over-voltage 32 V = 32 /
+ * 52.8 x 32768 = 19859 counts, 1 % either side 19661 and 20058;
+ * under-voltage 16 V = 9930, 9830 and 10029; over-temperature 100 degC =
+ * (0.5 + 0.01 x 100) / 3.3 x 32768 = 14895, 99 and 101 degC 14795 and
+ * 14994; clear at 31 V, 17 V and 90 degC. */
 static void case_protection_thresholds(void)
 {
     foc_protection_t p;
     foc_protection_init(&p);
     p.resistor_enabled = 0;
-    const q15_t temp_ok = FOC_TEMP_READING(25.0);
-    TK_CHECK(foc_protection_check(&p, FOC_VDC_NOMINAL, temp_ok) == 0, "nominal");
-    TK_CHECK(foc_protection_check(&p, FOC_OVERVOLTAGE, temp_ok) == FOC_FAULT_OVERVOLTAGE, "ov");
-    TK_CHECK(foc_protection_check(&p, FOC_UNDERVOLTAGE, temp_ok) == FOC_FAULT_UNDERVOLTAGE, "uv");
-    TK_CHECK(foc_protection_check(&p, FOC_VDC_NOMINAL, FOC_OVERTEMP) == FOC_FAULT_OVERTEMP, "ot");
-    /* hysteresis: just below the trip is not yet "gone" */
+    const q15_t temp_ok = temp_reading(25.0);
+    const q15_t vdc_ok = vdc_reading(BOARD_VDC_NOMINAL_V);
+    if (BOARD_VDC_FULL_SCALE_V == 52.8 && OVERVOLTAGE_V == 32.0 && UNDERVOLTAGE_V == 16.0 &&
+        BOARD_ADC_VREF_V == 3.3 && OVERTEMP_DEGC == 100.0) {
+        TK_CHECK(vdc_reading(32.0) == 19859 && vdc_reading(0.99 * 32.0) == 19661 &&
+                     vdc_reading(1.01 * 32.0) == 20058 && vdc_reading(16.0) == 9930,
+                 "bus readings %d %d %d %d", vdc_reading(32.0), vdc_reading(0.99 * 32.0),
+                 vdc_reading(1.01 * 32.0), vdc_reading(16.0));
+        TK_CHECK(temp_reading(100.0) == 14895 && temp_reading(99.0) == 14795 &&
+                     temp_reading(101.0) == 14994,
+                 "temperature readings %d %d %d", temp_reading(100.0), temp_reading(99.0),
+                 temp_reading(101.0));
+    }
+    TK_CHECK(foc_protection_check(&p, vdc_ok, temp_ok) == 0, "nominal");
+    TK_CHECK(foc_protection_check(&p, vdc_reading(1.01 * OVERVOLTAGE_V), temp_ok) ==
+                 FOC_FAULT_OVERVOLTAGE, "ov at 1.01 x");
+    TK_CHECK(foc_protection_check(&p, vdc_reading(0.99 * OVERVOLTAGE_V), temp_ok) == 0,
+             "ov at 0.99 x");
+    TK_CHECK(foc_protection_check(&p, vdc_reading(0.99 * UNDERVOLTAGE_V), temp_ok) ==
+                 FOC_FAULT_UNDERVOLTAGE, "uv at 0.99 x");
+    TK_CHECK(foc_protection_check(&p, vdc_reading(1.01 * UNDERVOLTAGE_V), temp_ok) == 0,
+             "uv at 1.01 x");
+    TK_CHECK(foc_protection_check(&p, vdc_ok, temp_reading(1.01 * OVERTEMP_DEGC)) ==
+                 FOC_FAULT_OVERTEMP, "ot at 1.01 x");
+    TK_CHECK(foc_protection_check(&p, vdc_ok, temp_reading(0.99 * OVERTEMP_DEGC)) == 0,
+             "ot at 0.99 x");
+    /* hysteresis: the cause is gone 1 % beyond the clear level, not 1 %
+     * before it */
     const uint16_t ov = FOC_FAULT_OVERVOLTAGE;
-    TK_CHECK(!foc_protection_causes_gone(&p, ov, (q15_t)(FOC_OVERVOLTAGE - 1), temp_ok), "ov hyst");
-    TK_CHECK(foc_protection_causes_gone(&p, ov, FOC_VDC_NOMINAL, temp_ok), "ov gone");
+    const double ov_clear = OVERVOLTAGE_V - BUS_HYSTERESIS_V;
+    TK_CHECK(!foc_protection_causes_gone(&p, ov, vdc_reading(1.01 * ov_clear), temp_ok),
+             "ov gone at 1.01 x the clear level");
+    TK_CHECK(foc_protection_causes_gone(&p, ov, vdc_reading(0.99 * ov_clear), temp_ok),
+             "ov not gone at 0.99 x the clear level");
+    const uint16_t uv = FOC_FAULT_UNDERVOLTAGE;
+    const double uv_clear = UNDERVOLTAGE_V + BUS_HYSTERESIS_V;
+    TK_CHECK(!foc_protection_causes_gone(&p, uv, vdc_reading(0.99 * uv_clear), temp_ok),
+             "uv gone at 0.99 x the clear level");
+    TK_CHECK(foc_protection_causes_gone(&p, uv, vdc_reading(1.01 * uv_clear), temp_ok),
+             "uv not gone at 1.01 x the clear level");
     const uint16_t ot = FOC_FAULT_OVERTEMP;
-    TK_CHECK(!foc_protection_causes_gone(&p, ot, FOC_VDC_NOMINAL, FOC_TEMP_READING(OVERTEMP_DEGC - 1)),
-             "ot hyst");
-    TK_CHECK(foc_protection_causes_gone(&p, ot, FOC_VDC_NOMINAL, temp_ok), "ot gone");
+    const double ot_clear = OVERTEMP_DEGC - TEMP_HYSTERESIS_DEGC;
+    TK_CHECK(!foc_protection_causes_gone(&p, ot, vdc_ok, temp_reading(1.01 * ot_clear)),
+             "ot gone at 1.01 x the clear level");
+    TK_CHECK(foc_protection_causes_gone(&p, ot, vdc_ok, temp_reading(0.99 * ot_clear)),
+             "ot not gone at 0.99 x the clear level");
     TK_CHECK(foc_protection_causes_gone(&p, FOC_FAULT_SPEED_FEEDBACK, 0, 0), "no cause");
 }
 
-/* With the resistor: on above ON, held between, off below OFF; the
- * over-voltage trip moves to 1.2 x OVERVOLTAGE_V. */
+/* With the resistor: on from BRAKE_RESISTOR_ON_V, held between, off from
+ * BRAKE_RESISTOR_OFF_V (1 % either side of each); the over-voltage trip
+ * moves to 1.2 x OVERVOLTAGE_V (Hurst075 board: 29 V, 27 V, 38.4 V). */
 static void case_protection_brake_resistor(void)
 {
     foc_protection_t p;
     foc_protection_init(&p);
     p.resistor_enabled = 1;
-    const q15_t t = FOC_TEMP_READING(25.0);
-    const q15_t between = (q15_t)((FOC_BRAKE_RESISTOR_ON + FOC_BRAKE_RESISTOR_OFF) / 2);
-    (void)foc_protection_check(&p, between, t);
+    const q15_t t = temp_reading(25.0);
+    (void)foc_protection_check(&p, vdc_reading(0.5 * (BRAKE_RESISTOR_ON_V + BRAKE_RESISTOR_OFF_V)), t);
     TK_CHECK(resistor_pin == 0, "off below ON");
-    (void)foc_protection_check(&p, FOC_BRAKE_RESISTOR_ON, t);
-    TK_CHECK(resistor_pin == 1, "on at ON");
-    (void)foc_protection_check(&p, between, t);
-    TK_CHECK(resistor_pin == 1, "held in the band");
-    (void)foc_protection_check(&p, FOC_BRAKE_RESISTOR_OFF, t);
-    TK_CHECK(resistor_pin == 0, "off at OFF");
-    TK_CHECK(foc_protection_check(&p, FOC_OVERVOLTAGE, t) == 0, "no trip at OVERVOLTAGE_V");
-    TK_CHECK(foc_protection_check(&p, FOC_OVERVOLTAGE_HARD, t) == FOC_FAULT_OVERVOLTAGE, "hard");
+    (void)foc_protection_check(&p, vdc_reading(0.99 * BRAKE_RESISTOR_ON_V), t);
+    TK_CHECK(resistor_pin == 0, "on at 0.99 x ON");
+    (void)foc_protection_check(&p, vdc_reading(1.01 * BRAKE_RESISTOR_ON_V), t);
+    TK_CHECK(resistor_pin == 1, "off at 1.01 x ON");
+    (void)foc_protection_check(&p, vdc_reading(1.01 * BRAKE_RESISTOR_OFF_V), t);
+    TK_CHECK(resistor_pin == 1, "not held at 1.01 x OFF");
+    (void)foc_protection_check(&p, vdc_reading(0.99 * BRAKE_RESISTOR_OFF_V), t);
+    TK_CHECK(resistor_pin == 0, "on at 0.99 x OFF");
+    TK_CHECK(foc_protection_check(&p, vdc_reading(1.01 * OVERVOLTAGE_V), t) == 0,
+             "trip at 1.01 x OVERVOLTAGE_V with the resistor");
+    TK_CHECK(foc_protection_check(&p, vdc_reading(0.99 * 1.2 * OVERVOLTAGE_V), t) == 0,
+             "trip at 0.99 x the hard threshold");
+    TK_CHECK(foc_protection_check(&p, vdc_reading(1.01 * 1.2 * OVERVOLTAGE_V), t) ==
+                 FOC_FAULT_OVERVOLTAGE, "no trip at 1.01 x the hard threshold");
+    (void)foc_protection_check(&p, vdc_reading(BOARD_VDC_NOMINAL_V), t);
 }
 
 /* Alignment: first half at -90 deg (in the direction of rotation) with a
  * rising current, second half at 0; then the ramp reaches the final speed
- * in STARTUP_RAMP_TIME_S, negative for the reverse direction. */
+ * in STARTUP_RAMP_TIME_S, negative for the reverse direction.
+ *
+ * The expected values are worked out here in physical units, in double,
+ * from userparms.h alone (not from config.h's tick and Q15 macros, which
+ * startup.c uses): a slow tick lasts CONTROL_SLOW_DIVIDER / PWM_FREQUENCY_HZ,
+ * a current count BOARD_CURRENT_FULL_SCALE_A / 32768 A, a speed count
+ * SPEED_BASE_RPM / 32768 rpm, the angle 2^32 per electrical turn.  On the
+ * Hurst075 (10 / 20 kHz = 0.5 ms per tick): the 0.12 s alignment is 240
+ * ticks, its current 1.5 A reached at 120 ticks and 0.75 A at 60; the
+ * 0.25 s ramp is 500 ticks to 500 rpm, 250 rpm at 250 ticks; at 500 rpm
+ * (2731 counts of 6000 / 32768 rpm = 500.06 rpm) 5 pole pairs turn
+ * 41.672 Hz, 2.0836e-3 of a turn per 50 us period: 8.949e6 of 2^32. */
 static void case_startup_sequence(void)
 {
+    const double tick_s = (double)CONTROL_SLOW_DIVIDER / PWM_FREQUENCY_HZ;
+    const double amp_per_count = BOARD_CURRENT_FULL_SCALE_A / 32768.0;
+    const double rpm_per_count = SPEED_BASE_RPM / 32768.0;
     for (int dir = -1; dir <= 1; dir += 2) {
         foc_startup_t s;
         foc_startup_begin(&s, (int8_t)dir);
         const uint16_t first = foc_startup_angle(&s);
         TK_CHECK(first == (dir > 0 ? 0xC000u : 0x4000u), "dir %d first angle %u", dir, first);
+        /* the alignment: ticks until it reports done, the current at a
+         * quarter and at half of STARTUP_ALIGN_TIME_S */
+        const unsigned quarter = (unsigned)lround(0.25 * STARTUP_ALIGN_TIME_S / tick_s);
+        const unsigned half = (unsigned)lround(0.5 * STARTUP_ALIGN_TIME_S / tick_s);
         unsigned ticks = 0;
         q15_t prev = 0;
-        while (foc_startup_align_tick(&s) == 0u && ticks < 100000u) {
-            TK_CHECK(s.current >= prev || ticks >= FOC_ALIGN_HALF_TICKS, "current falls");
-            prev = s.current;
+        double i_quarter = -1.0, i_half = -1.0, i_second = -1.0;
+        uint8_t done = 0;
+        while (!done && ticks < 100000u) {
+            done = foc_startup_align_tick(&s);
             ticks++;
+            TK_CHECK(s.current >= prev || ticks > half, "current falls at tick %u", ticks);
+            prev = s.current;
+            i_quarter = (ticks == quarter) ? s.current * amp_per_count : i_quarter;
+            i_half = (ticks == half) ? s.current * amp_per_count : i_half;
+            i_second = (ticks == half + 2u) ? s.current * amp_per_count : i_second;
         }
-        TK_CHECK(ticks + 1u == 2u * FOC_ALIGN_HALF_TICKS, "align ticks %u", ticks + 1u);
+        TK_CHECK(fabs(ticks * tick_s - STARTUP_ALIGN_TIME_S) <= tick_s,
+                 "alignment %u ticks = %.4f s, want %.4f s", ticks, ticks * tick_s,
+                 STARTUP_ALIGN_TIME_S);
+        /* a linear rise; the per-tick step rounds down (at most 1 % short) */
+        TK_CHECK(fabs(i_quarter - 0.5 * STARTUP_ALIGN_CURRENT_A) <= 0.01 * STARTUP_ALIGN_CURRENT_A,
+                 "align current at a quarter %.4f A, want %.4f A", i_quarter,
+                 0.5 * STARTUP_ALIGN_CURRENT_A);
+        TK_CHECK(fabs(i_half - STARTUP_ALIGN_CURRENT_A) <= 0.01 * STARTUP_ALIGN_CURRENT_A,
+                 "align current at half %.4f A, want %.4f A", i_half, STARTUP_ALIGN_CURRENT_A);
+        TK_CHECK(fabs(i_second - STARTUP_ALIGN_CURRENT_A) <= amp_per_count,
+                 "align current in the second half %.4f A, want %.4f A", i_second,
+                 STARTUP_ALIGN_CURRENT_A);
         TK_CHECK(foc_startup_angle(&s) == 0u, "aligned at 0");
-        for (unsigned k = 0; k < FOC_OL_RAMP_TICKS; k++) {
-            foc_startup_ramp_tick(&s, FOC_OL_FINAL_SPEED);
+        TK_CHECK(fabs(s.current * amp_per_count - STARTUP_CURRENT_FIRST_A) <= amp_per_count,
+                 "open loop's first current %.4f A, want %.4f A", s.current * amp_per_count,
+                 STARTUP_CURRENT_FIRST_A);
+        /* the ramp: the speed after k ticks is the final speed x k tick_s /
+         * STARTUP_RAMP_TIME_S (one speed count and half a tick's worth of
+         * rounding), then the final speed */
+        const unsigned ramp_half = (unsigned)lround(0.5 * STARTUP_RAMP_TIME_S / tick_s);
+        const unsigned ramp_end = (unsigned)lround(STARTUP_RAMP_TIME_S / tick_s);
+        const q15_t final_q15 = (q15_t)lround(STARTUP_FINAL_SPEED_RPM / rpm_per_count);
+        const double tol_rpm = rpm_per_count + 0.5 * STARTUP_FINAL_SPEED_RPM * tick_s /
+                                                   STARTUP_RAMP_TIME_S;
+        for (unsigned k = 1; k <= ramp_end + 10u; k++) {
+            foc_startup_ramp_tick(&s, final_q15);
+            if (k == ramp_half || k == ramp_end + 10u) {
+                const double want =
+                    dir * STARTUP_FINAL_SPEED_RPM * fmin(1.0, k * tick_s / STARTUP_RAMP_TIME_S);
+                TK_CHECK(fabs(s.speed * rpm_per_count - want) <= tol_rpm,
+                         "dir %d, %.4f s into the ramp: %.2f rpm, want %.2f rpm", dir,
+                         k * tick_s, s.speed * rpm_per_count, want);
+            }
         }
-        const int32_t final = dir * (int32_t)FOC_OL_FINAL_SPEED;
-        TK_CHECK(abs(s.speed - final) <= 1, "dir %d speed %d, want %ld", dir,
-                 s.speed, (long)final);
-        TK_CHECK(s.current == FOC_OL_CURRENT_FINAL || abs(s.current - FOC_OL_CURRENT_FINAL) <= 1,
-                 "current %d", s.current);
-        /* the forced angle turns at the forced speed */
+        TK_CHECK(fabs(s.current * amp_per_count - STARTUP_CURRENT_FINAL_A) <= amp_per_count,
+                 "final current %.4f A, want %.4f A", s.current * amp_per_count,
+                 STARTUP_CURRENT_FINAL_A);
+        /* the forced angle turns at the forced speed: electrical turns per
+         * PWM period, x 2^32 (within config.h's stated 0.02 %) */
+        const double want_step = s.speed * rpm_per_count / 60.0 * MOTOR_POLE_PAIRS /
+                                 PWM_FREQUENCY_HZ * 4294967296.0;
         const uint32_t before = s.theta32;
         foc_startup_fast(&s);
-        TK_CHECK((int32_t)(s.theta32 - before) == s.speed * FOC_THETA32_PER_SPEED, "increment");
+        const double step = (double)(int32_t)(s.theta32 - before);
+        TK_CHECK(fabs(step - want_step) <= 2e-4 * fabs(want_step),
+                 "increment %.0f per period, want %.0f", step, want_step);
     }
 }
 
