@@ -63,27 +63,33 @@ void est_measure(foc_est_kind_t kind, const est_case_t *c, est_result_t *out)
     run_free(&r);
 }
 
-int est_check(const char *label, const est_result_t *r, double rms_max_deg,
-              double peak_max_deg, double speed_err_max_pct, double target_rpm)
+int est_check(const char *label, const est_result_t *r, const est_limits_t *lim,
+              double target_rpm)
 {
     const double speed_dev_pct = 100.0 * fabs(r->speed_mean_rpm - target_rpm) / fabs(target_rpm);
-    const int ok = r->in_run && r->ran_on_estimator && r->angle_rms_deg <= rms_max_deg &&
-                   r->angle_peak_deg <= peak_max_deg &&
-                   r->speed_err_rms_pct <= speed_err_max_pct && speed_dev_pct <= 2.0;
-    printf("%-34s angle rms %6.3f deg peak %6.3f deg | speed err rms %6.3f %% | "
-           "speed %8.1f rpm%s%s  %s\n",
+    const int ok = r->in_run && r->ran_on_estimator && r->angle_rms_deg <= lim->rms_deg &&
+                   r->angle_peak_deg <= lim->peak_deg &&
+                   r->speed_err_rms_pct <= lim->speed_err_pct &&
+                   speed_dev_pct <= lim->speed_dev_pct;
+    printf("%-40s angle rms %6.3f deg peak %6.3f deg | speed err rms %6.3f %% | "
+           "speed %8.2f rpm (%5.3f %% off)%s%s  %s\n",
            label, r->angle_rms_deg, r->angle_peak_deg, r->speed_err_rms_pct,
-           r->speed_mean_rpm, r->in_run ? "" : " NOT-RUN",
+           r->speed_mean_rpm, speed_dev_pct, r->in_run ? "" : " NOT-RUN",
            r->ran_on_estimator ? "" : " ON-SENSOR", ok ? "ok" : "FAIL");
+    if (!ok) {
+        printf("%-40s limits: rms %.3f deg, peak %.3f deg, speed err %.3f %%, speed %.3f %%\n",
+               "", lim->rms_deg, lim->peak_deg, lim->speed_err_pct, lim->speed_dev_pct);
+    }
     return ok;
 }
 
 double est_lowest_speed(foc_est_kind_t kind, const double *speeds, int n,
-                        double rms_max_deg)
+                        double rms_max_deg, const char *plant, int realistic,
+                        double *worst_rms_deg)
 {
-    double lowest = 0.0;
+    double lowest = 0.0, worst = 0.0;
     for (int i = 0; i < n; i++) {
-        const est_case_t c = { speeds[i], 0.0, 77.0, NULL, 0, 0 };
+        const est_case_t c = { speeds[i], 0.0, 77.0, plant, realistic, 0 };
         est_result_t r;
         est_measure(kind, &c, &r);
         const int ok = r.in_run && r.ran_on_estimator && r.angle_rms_deg <= rms_max_deg &&
@@ -94,6 +100,10 @@ double est_lowest_speed(foc_est_kind_t kind, const double *speeds, int n,
             break;
         }
         lowest = speeds[i];
+        worst = fmax(worst, r.angle_rms_deg);
+    }
+    if (worst_rms_deg != NULL) {
+        *worst_rms_deg = worst;
     }
     return lowest;
 }

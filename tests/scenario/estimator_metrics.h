@@ -37,21 +37,32 @@ typedef struct {
     double speed_mean_rpm;      /* true speed, mean over the window */
 } est_result_t;
 
+/* A case's limits. */
+typedef struct {
+    double rms_deg, peak_deg; /* angle error RMS and peak */
+    double speed_err_pct;     /* speed estimate error RMS, % of |target| */
+    double speed_dev_pct;     /* mean true speed off the target, % */
+} est_limits_t;
+
 void est_measure(foc_est_kind_t kind, const est_case_t *c, est_result_t *out);
 
 /* Prints one line for a case and returns 1 if it meets the limits:
  * state RUN on the estimator, angle RMS and peak, speed error, and the
- * speed within 2 % of the target (the loop really runs there). */
-int est_check(const char *label, const est_result_t *r, double rms_max_deg,
-              double peak_max_deg, double speed_err_max_pct, double target_rpm);
+ * mean speed within speed_dev_pct of the target (the loop really runs
+ * there). */
+int est_check(const char *label, const est_result_t *r, const est_limits_t *lim,
+              double target_rpm);
 
 /* The scenario lines of the detuned motor: the real motor's Rs +30 %,
  * Ls -20 % and flux -10 % from what userparms.h says. */
 void est_detuned_plant(char *buf, size_t len);
 
 /* Lowest of `speeds` (descending list) at which the angle error RMS stays
- * <= rms_max_deg in steady state with no load; 0 if none. */
+ * <= rms_max_deg in steady state with no load, on the plant `plant`
+ * (scenario lines, may be NULL; `realistic` as in est_case_t); 0 if none.
+ * *worst_rms_deg (if not NULL): the largest RMS down to that speed. */
 double est_lowest_speed(foc_est_kind_t kind, const double *speeds, int n,
-                        double rms_max_deg);
+                        double rms_max_deg, const char *plant, int realistic,
+                        double *worst_rms_deg);
 
 #endif /* ESTIMATOR_METRICS_H */

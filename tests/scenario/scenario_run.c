@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "foc/config.h"
+
 void run_scenario(const char *text, foc_est_kind_t est, run_t *out)
 {
     sim_options_t opt;
@@ -142,4 +144,23 @@ double run_mean_speed(const run_t *r, double t0, double t1)
         n++;
     }
     return n ? sum / (double)n : 0.0;
+}
+
+void run_mismatch_plant(char *buf, size_t len)
+{
+    snprintf(buf, len,
+             "0 plant rs %.9g\n0 plant ld %.9g\n0 plant lq %.9g\n0 plant flux %.9g\n"
+             "0 plant noise 2\n0 plant deadtime %.9g\n",
+             1.3 * MOTOR_RS_OHM, 0.8 * MOTOR_LD_H, 0.8 * MOTOR_LQ_H, 1.1 * FOC_FLUX_WB,
+             PWM_DEADTIME_S);
+}
+
+const char *run_text(char *buf, size_t len, int mismatch, const char *scenario)
+{
+    char plant[256] = "";
+    if (mismatch) {
+        run_mismatch_plant(plant, sizeof plant);
+    }
+    snprintf(buf, len, "%s%s", plant, scenario);
+    return buf;
 }

@@ -76,7 +76,7 @@ static void case_compare_estimators(void)
     const double speeds[] = { 400, 300, 250, 200, 175, 150, 125, 100, 75, 50, 35, 25 };
     double lowest[3];
     for (size_t k = 0; k < 3; k++) {
-        lowest[k] = est_lowest_speed(kinds[k], speeds, 12, 10.0);
+        lowest[k] = est_lowest_speed(kinds[k], speeds, 12, 10.0, NULL, 0, NULL);
     }
     printf("\n| lowest steady speed, angle RMS <= 10 deg (no load, lowest tried 25 rpm) "
            "| PLL | Luenberger | flux |\n|---|---|---|---|\n| ideal plant | %.0f rpm | "

@@ -2,108 +2,128 @@
  * Sensorless estimators running the loop on their own angle (after a
  * sensored start), on the motor of the build's userparms.h with the
  * controller's parameters equal to the plant unless a case says otherwise.
- * Limits from the estimator issue: angle error RMS <= 3 deg and peak
- * <= 6 deg (PLL, Luenberger; flux RMS <= 5 deg), speed estimate error
- * <= 1 %; detuned motor RMS <= 10 deg; lowest speed with RMS <= 10 deg
- * at most 5 % of the maximum speed.
+ *
+ * The estimator issue's limits (angle error RMS <= 3 deg and peak <= 6 deg
+ * for the PLL and the Luenberger observer, RMS <= 5 deg for the flux
+ * estimator, speed estimate error <= 1 %, detuned motor RMS <= 10 deg,
+ * lowest speed at most 5 % of the maximum) sat 20 to 100 times above what
+ * the runs measure.  Each case now has its own limits, about 3 to 5 times
+ * the worst its runs measure on the Hurst075 (the measured figures are in
+ * the comments by the limits; the issue's limits where those are
+ * tighter), so that a regression of a few times shows.  Every case on the
+ * nominal plant has a variant on the stated mismatch (scenario_run.h:
+ * Rs +30 %, L -20 %, flux +10 %, 2 codes of ADC noise, the board's dead
+ * time, compensated) with limits from its own measures.
+ *
+ * The limits are the Hurst075's: another motor (FOC_USERPARMS) may need
+ * its own.
  */
+#include <math.h>
 #include <stdio.h>
 
 #include "estimator_metrics.h"
 #include "foc/config.h"
 #include "testkit.h"
 
-typedef struct {
-    foc_est_kind_t kind;
-    double rms_max_deg;
-    double peak_max_deg;
-} limits_t;
-
-static const limits_t pll_limits = { FOC_EST_PLL, 3.0, 6.0 };
-/* Flux: the issue gives only RMS <= 5 deg; 10 deg peak is our choice. */
-static const limits_t flux_limits = { FOC_EST_FLUX, 5.0, 10.0 };
-static const limits_t luen_limits = { FOC_EST_LUENBERGER, 3.0, 6.0 };
-
-static void check_case(const limits_t *lim, const char *label, const est_case_t *c,
-                       double rms_max, double peak_max)
+static void check_case(foc_est_kind_t kind, const est_limits_t *lim, const char *label,
+                       const est_case_t *c)
 {
     est_result_t r;
-    est_measure(lim->kind, c, &r);
-    TK_CHECK(est_check(label, &r, rms_max, peak_max, 1.0, c->speed_rpm), "%s", label);
+    est_measure(kind, c, &r);
+    TK_CHECK(est_check(label, &r, lim, c->speed_rpm), "%s", label);
 }
 
-static void speeds_and_loads(const limits_t *lim)
+/* `n` speeds, no load and 0.05 Nm (limits lim[0] and lim[1]), on the
+ * plant `plant` (NULL: the nominal one; `realistic` as in est_case_t). */
+static void speeds_and_loads(foc_est_kind_t kind, const est_limits_t lim[2], const double *speeds,
+                             size_t n, const char *plant, int realistic, const char *what)
 {
-    const double speeds[] = { 500.0, 1000.0, 2000.0, 3000.0 };
     const double loads[] = { 0.0, 0.05 };
-    for (size_t i = 0; i < 4; i++) {
+    for (size_t i = 0; i < n; i++) {
         for (size_t j = 0; j < 2; j++) {
-            const est_case_t c = { speeds[i], loads[j], 30.0 + 47.0 * (double)i, NULL, 0, 0 };
+            const double angle = (speeds[i] < 0.0) ? 250.0 : 30.0 + 47.0 * (double)i;
+            const est_case_t c = { speeds[i], loads[j], angle, plant, realistic, 0 };
             char label[64];
-            snprintf(label, sizeof label, "%s %5.0f rpm %.2f Nm", foc_est_name(lim->kind),
+            snprintf(label, sizeof label, "%s%s %5.0f rpm %.2f Nm", foc_est_name(kind), what,
                      speeds[i], loads[j]);
-            check_case(lim, label, &c, lim->rms_max_deg, lim->peak_max_deg);
+            check_case(kind, &lim[j], label, &c);
         }
     }
 }
 
-static void reverse(const limits_t *lim)
+static const double forward[] = { 500.0, 1000.0, 2000.0, 3000.0 };
+static const double backward[] = { -1000.0 };
+
+static void nominal(foc_est_kind_t kind, const est_limits_t *lim)
 {
-    const double loads[] = { 0.0, 0.05 };
-    for (size_t j = 0; j < 2; j++) {
-        const est_case_t c = { -1000.0, loads[j], 250.0, NULL, 0, 0 };
-        char label[64];
-        snprintf(label, sizeof label, "%s -1000 rpm %.2f Nm", foc_est_name(lim->kind), loads[j]);
-        check_case(lim, label, &c, lim->rms_max_deg, lim->peak_max_deg);
-    }
+    const est_limits_t both[2] = { *lim, *lim };
+    speeds_and_loads(kind, both, forward, 4, NULL, 0, "");
 }
 
-/* The real motor: Rs +30 %, Ls -20 %, flux -10 % from userparms.h.
- * Limits from what the three estimators measure (Hurst075): no load RMS
- * 0.107-0.118 deg, peak 0.242-0.372 deg -> 0.5 and 1.2 deg; 0.05 Nm RMS
- * 2.87-2.90 deg, peak 2.97-3.03 deg (the bias dL iq / psi) -> 10 and
- * 10 deg.  (The peak was limited at 180 deg, which the error, wrapped by
- * remainder(.., 360), can never exceed.) */
-static void detuned(const limits_t *lim)
+static void reverse(foc_est_kind_t kind, const est_limits_t *lim)
+{
+    const est_limits_t both[2] = { *lim, *lim };
+    speeds_and_loads(kind, both, backward, 1, NULL, 0, "");
+}
+
+/* The nominal cases' runs on the stated mismatch, both directions, but
+ * 3000 rpm: with 0.05 Nm there the mismatched motor (its flux +10 % and
+ * Rs +30 %) needs more than FW_ID_MAX_A of field weakening at 24 V and
+ * the drive holds the speed where the voltage runs out, 2470-2520 rpm
+ * with every estimator and with the sensor. */
+static void mismatch(foc_est_kind_t kind, const est_limits_t lim[2])
+{
+    static const double speeds[] = { 500.0, 1000.0, 2000.0, -1000.0 };
+    char plant[256];
+    run_mismatch_plant(plant, sizeof plant);
+    printf("plant: %s\n", RUN_MISMATCH_NAME);
+    speeds_and_loads(kind, lim, speeds, 4, plant, 1, " mismatch");
+}
+
+/* The real motor: Rs +30 %, Ls -20 %, flux -10 % from userparms.h, no
+ * load (`free`) and 0.05 Nm (`loaded`: the angle error is then the bias
+ * dL iq / psi, 2.9 deg).  (The peak was limited at 180 deg, which the
+ * error, wrapped by remainder(.., 360), can never exceed.) */
+static void detuned(foc_est_kind_t kind, const est_limits_t *free, const est_limits_t *loaded)
 {
     char plant[256];
     est_detuned_plant(plant, sizeof plant);
     const double loads[] = { 0.0, 0.05 };
-    const double rms_max[] = { 0.5, 10.0 };
-    const double peak_max[] = { 1.2, 10.0 };
     for (size_t j = 0; j < 2; j++) {
         const est_case_t c = { 1000.0, loads[j], 160.0, plant, 0, 0 };
         char label[64];
-        snprintf(label, sizeof label, "%s detuned 1000 rpm %.2f Nm", foc_est_name(lim->kind),
+        snprintf(label, sizeof label, "%s detuned 1000 rpm %.2f Nm", foc_est_name(kind),
                  loads[j]);
-        check_case(lim, label, &c, rms_max[j], peak_max[j]);
+        check_case(kind, j == 0 ? free : loaded, label, &c);
     }
 }
 
 /* One plant parameter at `scale` x its nominal value, all else equal,
- * 0.05 Nm at `speed`, the nominal motor's limits. */
-static void check_scaled(const limits_t *lim, const char *param, double nominal, double scale,
-                         double speed, double angle, int aligned_start)
+ * 0.05 Nm at `speed`. */
+static void check_scaled(foc_est_kind_t kind, const est_limits_t *lim, const char *param,
+                         double nominal_value, double scale, double speed, double angle,
+                         int aligned_start)
 {
     char plant[64];
-    snprintf(plant, sizeof plant, "0 plant %s %g", param, scale * nominal);
+    snprintf(plant, sizeof plant, "0 plant %s %g", param, scale * nominal_value);
     const est_case_t c = { speed, 0.05, angle, plant, 0, aligned_start };
     char label[64];
-    snprintf(label, sizeof label, "%s %s x%.2f %5.0f rpm", foc_est_name(lim->kind), param, scale,
+    snprintf(label, sizeof label, "%s %s x%.2f %5.0f rpm", foc_est_name(kind), param, scale,
              speed);
-    check_case(lim, label, &c, lim->rms_max_deg, lim->peak_max_deg);
+    check_case(kind, lim, label, &c);
 }
 
 /* The magnet's flux off MOTOR_KE (tolerance, temperature), in both
  * directions (the PLL's eq. 2 alone was 25.8 deg off at x0.75, 12.0 deg at
  * x1.3 and 102 deg at x1.3 in reverse). */
-static void flux_mismatch(const limits_t *lim)
+static void flux_mismatch(foc_est_kind_t kind, const est_limits_t *lim)
 {
     const double scales[] = { 0.75, 1.3 };
     const double speeds[] = { 1000.0, -1000.0 };
     for (size_t i = 0; i < 2; i++) {
         for (size_t j = 0; j < 2; j++) {
-            check_scaled(lim, "flux", FOC_FLUX_WB, scales[i], speeds[j], 70.0 + 90.0 * (double)j, 0);
+            check_scaled(kind, lim, "flux", FOC_FLUX_WB, scales[i], speeds[j],
+                         70.0 + 90.0 * (double)j, 0);
         }
     }
 }
@@ -113,11 +133,11 @@ static void flux_mismatch(const limits_t *lim)
  * measures Rs for the PLL and the flux estimator (controller.c
  * identify_rs; without it, neither starts at x0.7 and the flux estimator
  * is 10.7 deg off at x1.6). */
-static void rs_mismatch(const limits_t *lim)
+static void rs_mismatch(foc_est_kind_t kind, const est_limits_t *lim)
 {
     const double scales[] = { 0.7, 1.6 };
     for (size_t i = 0; i < 2; i++) {
-        check_scaled(lim, "rs", MOTOR_RS_OHM, scales[i], 500.0, 200.0, 1);
+        check_scaled(kind, lim, "rs", MOTOR_RS_OHM, scales[i], 500.0, 200.0, 1);
     }
 }
 
@@ -126,7 +146,7 @@ static void rs_mismatch(const limits_t *lim)
  * measures it for the PLL and the flux estimator (controller.c
  * identify_ls; without it both are 4.8 deg RMS off at x0.6 and 5.9 deg
  * at x1.5, the angle error dL iq / psi; with it 0.03-0.28 deg). */
-static void ls_mismatch(const limits_t *lim)
+static void ls_mismatch(foc_est_kind_t kind, const est_limits_t *lim)
 {
     const double scales[] = { 0.6, 1.5 };
     for (size_t i = 0; i < 2; i++) {
@@ -135,8 +155,8 @@ static void ls_mismatch(const limits_t *lim)
                  scales[i] * MOTOR_LQ_H);
         const est_case_t c = { 1000.0, 0.05, 120.0, plant, 0, 1 };
         char label[64];
-        snprintf(label, sizeof label, "%s ls x%.2f 1000 rpm", foc_est_name(lim->kind), scales[i]);
-        check_case(lim, label, &c, lim->rms_max_deg, lim->peak_max_deg);
+        snprintf(label, sizeof label, "%s ls x%.2f 1000 rpm", foc_est_name(kind), scales[i]);
+        check_case(kind, lim, label, &c);
     }
 }
 
@@ -145,7 +165,7 @@ static void ls_mismatch(const limits_t *lim)
  * once its estimate has locked (controller.c catch_tick; without the
  * probe the PLL is 4.7 and 6.0 deg RMS off, the flux estimator 4.7 deg
  * at x0.6). */
-static void ls_mismatch_caught(const limits_t *lim)
+static void ls_mismatch_caught(foc_est_kind_t kind, const est_limits_t *lim)
 {
     const double scales[] = { 0.6, 1.5 };
     for (size_t i = 0; i < 2; i++) {
@@ -154,52 +174,194 @@ static void ls_mismatch_caught(const limits_t *lim)
                  scales[i] * MOTOR_LD_H, scales[i] * MOTOR_LQ_H, CALIB_TIME_S + 0.005);
         const est_case_t c = { 1000.0, 0.05, 120.0, plant, 0, 1 };
         char label[64];
-        snprintf(label, sizeof label, "%s ls x%.2f caught at 1000 rpm", foc_est_name(lim->kind),
+        snprintf(label, sizeof label, "%s ls x%.2f caught at 1000 rpm", foc_est_name(kind),
                  scales[i]);
-        check_case(lim, label, &c, lim->rms_max_deg, lim->peak_max_deg);
+        check_case(kind, lim, label, &c);
     }
 }
 
-static void lowest_speed(const limits_t *lim)
+/* The lowest steady speed with the angle RMS within 10 deg (the
+ * definition of running), no load, at most `lowest_max` rpm (the issue's
+ * 5 % of the maximum speed is 175 rpm), and the worst RMS down to it at
+ * most `rms_max` deg; on the nominal plant, or on the mismatch. */
+static void lowest_speed(foc_est_kind_t kind, int on_mismatch, double lowest_max, double rms_max)
 {
     const double speeds[] = { 400, 300, 250, 200, 175, 150, 125, 100, 75, 50, 35, 25 };
-    const double lowest = est_lowest_speed(lim->kind, speeds, 12, 10.0);
-    const double target = 0.05 * MOTOR_MAX_SPEED_RPM;
-    printf("%s: lowest steady speed with angle rms <= 10 deg: %.0f rpm (target <= %.0f)\n",
-           foc_est_name(lim->kind), lowest, target);
-    TK_CHECK(lowest > 0.0 && lowest <= target, "lowest speed %.0f rpm", lowest);
+    char plant[256];
+    if (on_mismatch) {
+        run_mismatch_plant(plant, sizeof plant);
+    }
+    double worst = 0.0;
+    const double lowest = est_lowest_speed(kind, speeds, 12, 10.0, on_mismatch ? plant : NULL,
+                                           on_mismatch, &worst);
+    printf("%s%s: lowest steady speed with angle rms <= 10 deg: %.0f rpm (limit %.0f), "
+           "worst rms down to it %.3f deg (limit %.3f)\n",
+           foc_est_name(kind), on_mismatch ? " on the mismatch" : "", lowest, lowest_max, worst,
+           rms_max);
+    TK_CHECK(lowest > 0.0 && lowest <= lowest_max, "lowest speed %.0f rpm", lowest);
+    TK_CHECK(worst <= rms_max, "angle rms %.3f deg", worst);
 }
 
-static void case_pll_speeds_and_loads(void) { speeds_and_loads(&pll_limits); }
-static void case_pll_reverse(void) { reverse(&pll_limits); }
-static void case_pll_detuned_motor(void) { detuned(&pll_limits); }
-static void case_pll_lowest_speed(void) { lowest_speed(&pll_limits); }
-static void case_pll_flux_mismatch(void) { flux_mismatch(&pll_limits); }
-static void case_pll_rs_mismatch(void) { rs_mismatch(&pll_limits); }
-static void case_pll_ls_mismatch(void) { ls_mismatch(&pll_limits); }
-static void case_pll_ls_mismatch_caught(void) { ls_mismatch_caught(&pll_limits); }
-static void case_flux_speeds_and_loads(void) { speeds_and_loads(&flux_limits); }
-static void case_flux_reverse(void) { reverse(&flux_limits); }
-static void case_flux_detuned_motor(void) { detuned(&flux_limits); }
-static void case_flux_lowest_speed(void) { lowest_speed(&flux_limits); }
-static void case_flux_flux_mismatch(void) { flux_mismatch(&flux_limits); }
-static void case_flux_rs_mismatch(void) { rs_mismatch(&flux_limits); }
-static void case_flux_ls_mismatch(void) { ls_mismatch(&flux_limits); }
-static void case_flux_ls_mismatch_caught(void) { ls_mismatch_caught(&flux_limits); }
-static void case_luenberger_speeds_and_loads(void) { speeds_and_loads(&luen_limits); }
-static void case_luenberger_reverse(void) { reverse(&luen_limits); }
-static void case_luenberger_detuned_motor(void) { detuned(&luen_limits); }
-static void case_luenberger_lowest_speed(void) { lowest_speed(&luen_limits); }
-static void case_luenberger_flux_mismatch(void) { flux_mismatch(&luen_limits); }
+/* The limits: {angle RMS deg, angle peak deg, speed estimate error RMS
+ * %, mean speed off the target %}, each about 3-5 x the worst the case
+ * measures on the Hurst075 (in the comments: RMS / peak / speed error /
+ * mean speed off), with a floor of 0.02 % for the mean speed, which the
+ * speed loop's integral holds at the target (0.000-0.005 % measured).
+ * The issue's limits before them: 3 / 6 deg, 1 %, 2 % (flux: 5 / 10 deg;
+ * detuned: 10 deg RMS); where the issue's is tighter it stays. */
 
-TK_CASES(TK_CASE(case_pll_speeds_and_loads), TK_CASE(case_pll_reverse),
+/* ---------------------------------------------------------------- PLL -- */
+/* nominal, 500-3000 and -1000 rpm, 0 and 0.05 Nm: 0.073 / 0.207 / 0.166 /
+ * 0.019 */
+static const est_limits_t pll_nominal = { 0.25, 0.7, 0.6, 0.08 };
+static void case_pll_speeds_and_loads(void) { nominal(FOC_EST_PLL, &pll_nominal); }
+static void case_pll_reverse(void) { reverse(FOC_EST_PLL, &pll_nominal); }
+/* mismatch, no load: 1.361 / 4.434 / 4.356 / 0.038; 0.05 Nm: 2.015 /
+ * 3.105 / 1.172 / 0.027 (the loaded RMS mostly the bias dL iq / psi) */
+static void case_pll_mismatch(void)
+{
+    static const est_limits_t lim[2] = { { 4.5, 14.0, 14.0, 0.15 }, { 6.0, 10.0, 4.0, 0.1 } };
+    mismatch(FOC_EST_PLL, lim);
+}
+/* no load 0.118 / 0.242 / 0.085 / 0.002; 0.05 Nm 2.868 / 2.970 / 0.054 /
+ * 0.001 */
+static void case_pll_detuned_motor(void)
+{
+    static const est_limits_t free = { 0.5, 1.2, 0.3, 0.02 };
+    static const est_limits_t loaded = { 10.0, 10.0, 0.2, 0.02 };
+    detuned(FOC_EST_PLL, &free, &loaded);
+}
+/* 25 rpm (the lowest tried), worst RMS 0.437 deg */
+static void case_pll_lowest_speed(void) { lowest_speed(FOC_EST_PLL, 0, 75.0, 1.5); }
+/* mismatch: 25 rpm, worst RMS 7.14 deg (at 25 rpm; the 10 deg that
+ * defines running is the limit) */
+static void case_pll_lowest_speed_mismatch(void) { lowest_speed(FOC_EST_PLL, 1, 75.0, 10.0); }
+/* 0.083 / 0.200 / 0.071 / 0.005 */
+static void case_pll_flux_mismatch(void)
+{
+    static const est_limits_t lim = { 0.3, 0.7, 0.25, 0.02 };
+    flux_mismatch(FOC_EST_PLL, &lim);
+}
+/* 0.077 / 0.175 / 0.135 / 0.019 */
+static void case_pll_rs_mismatch(void)
+{
+    static const est_limits_t lim = { 0.3, 0.6, 0.5, 0.08 };
+    rs_mismatch(FOC_EST_PLL, &lim);
+}
+/* 0.283 / 0.408 / 0.075 / 0.000 */
+static void case_pll_ls_mismatch(void)
+{
+    static const est_limits_t lim = { 1.0, 1.3, 0.25, 0.02 };
+    ls_mismatch(FOC_EST_PLL, &lim);
+}
+/* 0.067 / 0.194 / 0.087 / 0.001 */
+static void case_pll_ls_mismatch_caught(void)
+{
+    static const est_limits_t lim = { 0.25, 0.6, 0.3, 0.02 };
+    ls_mismatch_caught(FOC_EST_PLL, &lim);
+}
+
+/* ------------------------------------------------------------- flux -- */
+/* nominal: 0.069 / 0.226 / 0.137 / 0.020 */
+static const est_limits_t flux_nominal = { 0.25, 0.8, 0.5, 0.08 };
+static void case_flux_speeds_and_loads(void) { nominal(FOC_EST_FLUX, &flux_nominal); }
+static void case_flux_reverse(void) { reverse(FOC_EST_FLUX, &flux_nominal); }
+/* mismatch, no load: 1.554 / 4.846 / 4.021 / 0.151; 0.05 Nm: 1.926 /
+ * 3.262 / 0.445 / 0.005 */
+static void case_flux_mismatch(void)
+{
+    static const est_limits_t lim[2] = { { 5.0, 15.0, 13.0, 0.5 }, { 6.0, 10.0, 1.5, 0.02 } };
+    mismatch(FOC_EST_FLUX, lim);
+}
+/* no load 0.107 / 0.270 / 0.070 / 0.000; 0.05 Nm 2.904 / 3.034 / 0.037 /
+ * 0.001 */
+static void case_flux_detuned_motor(void)
+{
+    static const est_limits_t free = { 0.5, 1.2, 0.25, 0.02 };
+    static const est_limits_t loaded = { 10.0, 10.0, 0.15, 0.02 };
+    detuned(FOC_EST_FLUX, &free, &loaded);
+}
+/* 25 rpm, worst RMS 0.579 deg */
+static void case_flux_lowest_speed(void) { lowest_speed(FOC_EST_FLUX, 0, 75.0, 2.0); }
+/* mismatch: 25 rpm, worst RMS 8.63 deg (at 25 rpm) */
+static void case_flux_lowest_speed_mismatch(void) { lowest_speed(FOC_EST_FLUX, 1, 75.0, 10.0); }
+/* 0.057 / 0.209 / 0.050 / 0.002 */
+static void case_flux_flux_mismatch(void)
+{
+    static const est_limits_t lim = { 0.2, 0.7, 0.2, 0.02 };
+    flux_mismatch(FOC_EST_FLUX, &lim);
+}
+/* 0.080 / 0.215 / 0.098 / 0.019 */
+static void case_flux_rs_mismatch(void)
+{
+    static const est_limits_t lim = { 0.3, 0.7, 0.35, 0.08 };
+    rs_mismatch(FOC_EST_FLUX, &lim);
+}
+/* 0.164 / 0.324 / 0.049 / 0.001 */
+static void case_flux_ls_mismatch(void)
+{
+    static const est_limits_t lim = { 0.6, 1.0, 0.2, 0.02 };
+    ls_mismatch(FOC_EST_FLUX, &lim);
+}
+/* 0.527 / 0.712 / 0.051 / 0.001 */
+static void case_flux_ls_mismatch_caught(void)
+{
+    static const est_limits_t lim = { 1.8, 2.2, 0.2, 0.02 };
+    ls_mismatch_caught(FOC_EST_FLUX, &lim);
+}
+
+/* ------------------------------------------------------- Luenberger -- */
+/* nominal: 0.124 / 0.447 / 0.695 / 0.038 (the issue's 1 % kept) */
+static const est_limits_t luen_nominal = { 0.5, 1.5, 1.0, 0.15 };
+static void case_luenberger_speeds_and_loads(void) { nominal(FOC_EST_LUENBERGER, &luen_nominal); }
+static void case_luenberger_reverse(void) { reverse(FOC_EST_LUENBERGER, &luen_nominal); }
+/* mismatch, no load: 2.134 / 6.934 / 10.943 / 0.229; 0.05 Nm: 2.015 /
+ * 4.541 / 4.415 / 0.206 */
+static void case_luenberger_mismatch(void)
+{
+    static const est_limits_t lim[2] = { { 7.0, 21.0, 33.0, 0.7 }, { 6.0, 14.0, 14.0, 0.7 } };
+    mismatch(FOC_EST_LUENBERGER, lim);
+}
+/* no load 0.116 / 0.372 / 0.210 / 0.010; 0.05 Nm 2.875 / 3.022 / 0.110 /
+ * 0.001 */
+static void case_luenberger_detuned_motor(void)
+{
+    static const est_limits_t free = { 0.5, 1.2, 0.7, 0.04 };
+    static const est_limits_t loaded = { 10.0, 10.0, 0.4, 0.04 };
+    detuned(FOC_EST_LUENBERGER, &free, &loaded);
+}
+/* 50 rpm, worst RMS 0.742 deg */
+static void case_luenberger_lowest_speed(void)
+{
+    lowest_speed(FOC_EST_LUENBERGER, 0, 150.0, 2.5);
+}
+/* mismatch: 400 rpm, the highest tried (at 300 rpm the observer loses the
+ * rotor: SPEED_FEEDBACK; with the noise alone, or the inductance -20 %
+ * alone, too), worst RMS 2.61 deg; above the issue's 5 % of the maximum
+ * (175 rpm), which is asked on the nominal plant */
+static void case_luenberger_lowest_speed_mismatch(void)
+{
+    lowest_speed(FOC_EST_LUENBERGER, 1, 400.0, 8.0);
+}
+/* 0.080 / 0.303 / 0.160 / 0.006 */
+static void case_luenberger_flux_mismatch(void)
+{
+    static const est_limits_t lim = { 0.3, 1.0, 0.6, 0.025 };
+    flux_mismatch(FOC_EST_LUENBERGER, &lim);
+}
+
+TK_CASES(TK_CASE(case_pll_speeds_and_loads), TK_CASE(case_pll_reverse), TK_CASE(case_pll_mismatch),
          TK_CASE(case_pll_detuned_motor), TK_CASE(case_pll_lowest_speed),
-         TK_CASE(case_pll_flux_mismatch), TK_CASE(case_pll_rs_mismatch),
-         TK_CASE(case_pll_ls_mismatch), TK_CASE(case_flux_ls_mismatch),
-         TK_CASE(case_pll_ls_mismatch_caught), TK_CASE(case_flux_ls_mismatch_caught),
-         TK_CASE(case_flux_speeds_and_loads), TK_CASE(case_flux_reverse),
+         TK_CASE(case_pll_lowest_speed_mismatch), TK_CASE(case_pll_flux_mismatch),
+         TK_CASE(case_pll_rs_mismatch), TK_CASE(case_pll_ls_mismatch),
+         TK_CASE(case_pll_ls_mismatch_caught),
+         TK_CASE(case_flux_speeds_and_loads), TK_CASE(case_flux_reverse), TK_CASE(case_flux_mismatch),
          TK_CASE(case_flux_detuned_motor), TK_CASE(case_flux_lowest_speed),
-         TK_CASE(case_flux_flux_mismatch), TK_CASE(case_flux_rs_mismatch),
+         TK_CASE(case_flux_lowest_speed_mismatch), TK_CASE(case_flux_flux_mismatch),
+         TK_CASE(case_flux_rs_mismatch), TK_CASE(case_flux_ls_mismatch),
+         TK_CASE(case_flux_ls_mismatch_caught),
          TK_CASE(case_luenberger_speeds_and_loads), TK_CASE(case_luenberger_reverse),
+         TK_CASE(case_luenberger_mismatch),
          TK_CASE(case_luenberger_detuned_motor), TK_CASE(case_luenberger_lowest_speed),
+         TK_CASE(case_luenberger_lowest_speed_mismatch),
          TK_CASE(case_luenberger_flux_mismatch))
