@@ -1,7 +1,12 @@
 /*
  * Sensored closed loop on the userparms.h motor (Hurst075 by default):
  * the foundation's acceptance figures, measured on the true (model) speed
- * and currents.
+ * and currents.  Every case runs on the nominal plant and, as
+ * case_*_mismatch, on the stated controller-plant mismatch (scenario_run.h:
+ * Rs +30 %, L -20 %, flux +10 %, 2 codes of ADC noise, the board's dead
+ * time).  Limits: the foundation issue's where they are within about 5 x
+ * what is measured, else about 3-5 x the measured figure (in the comments,
+ * nominal / mismatch).
  */
 #include <math.h>
 #include <stdio.h>
@@ -10,13 +15,21 @@
 #include "scenario_run.h"
 #include "testkit.h"
 
-#define ID_BAND_A (0.02 * FOC_I_BASE_A) /* +-2 % of the current base */
+static void run(const char *scenario, int mm, run_t *r)
+{
+    char text[1024];
+    if (mm) {
+        printf("plant: %s\n", RUN_MISMATCH_NAME);
+    }
+    run_scenario(run_text(text, sizeof text, mm, scenario), FOC_EST_SENSORED, r);
+}
 
 typedef struct {
     double t_step, t_next, from, to;
 } step_t;
 
-static void check_step(const run_t *r, const step_t *s)
+static void check_step(const run_t *r, const step_t *s, double settle_max_s,
+                       double overshoot_max_pct)
 {
     const double settle =
         run_last_outside(r, s->t_step, s->t_next, s->to, 0.01 * fabs(s->to)) - s->t_step;
@@ -24,94 +37,131 @@ static void check_step(const run_t *r, const step_t *s)
     const double ext = run_extreme_speed(r, s->t_step, s->t_next, !up);
     const double overshoot = up ? ext - s->to : s->to - ext;
     const double overshoot_pct = 100.0 * fmax(0.0, overshoot) / fabs(s->to - s->from);
-    printf("step %.0f -> %.0f rpm: settled within 1 %% after %.1f ms, overshoot %.2f %% "
-           "of the step\n",
-           s->from, s->to, settle * 1e3, overshoot_pct);
-    TK_CHECK(settle <= 0.300, "%.0f->%.0f settle %.1f ms > 300 ms", s->from, s->to,
-             settle * 1e3);
-    TK_CHECK(overshoot_pct <= 10.0, "%.0f->%.0f overshoot %.2f %% > 10 %%", s->from, s->to,
+    printf("step %.0f -> %.0f rpm: settled within 1 %% after %.1f ms (limit %.0f), overshoot "
+           "%.2f %% of the step (limit %.1f)\n",
+           s->from, s->to, settle * 1e3, settle_max_s * 1e3, overshoot_pct, overshoot_max_pct);
+    TK_CHECK(settle <= settle_max_s, "%.0f->%.0f settle %.1f ms", s->from, s->to, settle * 1e3);
+    TK_CHECK(overshoot_pct <= overshoot_max_pct, "%.0f->%.0f overshoot %.2f %%", s->from, s->to,
              overshoot_pct);
 }
 
-static void case_speed_steps(void)
+/* Measured: settling 110, 106, 163 ms / 109, 105, 161 ms; overshoot
+ * 2.42, 2.40, 1.74 % / 2.33, 2.27, 1.69 %: the issue's 300 ms and 10 %
+ * (1.8 x and 4.1 x) kept. */
+static void speed_steps(int mm, double settle_max_s, double overshoot_max_pct)
 {
     run_t r;
-    run_scenario("0 start\n0.1 speed 1000\n0.6 speed 2000\n1.1 speed 500\n1.6 end\n",
-                 FOC_EST_SENSORED, &r);
+    run("0 start\n0.1 speed 1000\n0.6 speed 2000\n1.1 speed 500\n1.6 end\n", mm, &r);
     const step_t steps[] = {
         { 0.1, 0.6, 0.0, 1000.0 },
         { 0.6, 1.1, 1000.0, 2000.0 },
         { 1.1, 1.6, 2000.0, 500.0 },
     };
     for (size_t i = 0; i < sizeof steps / sizeof steps[0]; i++) {
-        check_step(&r, &steps[i]);
+        check_step(&r, &steps[i], settle_max_s, overshoot_max_pct);
     }
     TK_CHECK(r.final_state == FOC_STATE_RUN, "final state %s", foc_state_name(r.final_state));
     run_free(&r);
 }
 
-static void case_load_step_recovery(void)
+static void case_speed_steps(void) { speed_steps(0, 0.300, 10.0); }
+static void case_speed_steps_mismatch(void) { speed_steps(1, 0.300, 10.0); }
+
+static void load_step_recovery(int mm, double dip_min, double dip_max, double recovery_max_s)
 {
     run_t r;
-    run_scenario("0 start\n0.1 speed 1000\n0.5 load 0.05\n0.8 end\n", FOC_EST_SENSORED, &r);
+    run("0 start\n0.1 speed 1000\n0.5 load 0.05\n0.8 end\n", mm, &r);
     const double dip = 1000.0 - run_extreme_speed(&r, 0.5, 0.8, 1);
     const double recovered = run_last_outside(&r, 0.5, 0.8, 1000.0, 10.0) - 0.5;
-    printf("load step 0.05 Nm at 1000 rpm: dip %.1f rpm, back within 1 %% after %.1f ms\n",
-           dip, recovered * 1e3);
-    TK_CHECK(dip > 10.0, "the load step did not disturb the speed (dip %.1f rpm)", dip);
-    TK_CHECK(recovered <= 0.100, "recovery %.1f ms > 100 ms", recovered * 1e3);
+    printf("load step 0.05 Nm at 1000 rpm: dip %.1f rpm (limits %.0f-%.0f), back within 1 %% "
+           "after %.1f ms (limit %.0f)\n",
+           dip, dip_min, dip_max, recovered * 1e3, recovery_max_s * 1e3);
+    TK_CHECK(dip >= dip_min && dip <= dip_max, "dip %.1f rpm", dip);
+    TK_CHECK(recovered <= recovery_max_s, "recovery %.1f ms", recovered * 1e3);
     run_free(&r);
 }
 
-/* Steady state below base speed, with and without load. */
-static void case_id_stays_zero(void)
+/* Measured: dip 231.7 / 217.9 rpm (was only asked to exceed 10 rpm; now
+ * within a third and 3 x of it), back within 1 % after 26.5 / 26.2 ms
+ * (the issue's 100 ms kept: 3.8 x). */
+static void case_load_step_recovery(void) { load_step_recovery(0, 75.0, 700.0, 0.100); }
+static void case_load_step_recovery_mismatch(void) { load_step_recovery(1, 70.0, 650.0, 0.100); }
+
+/* Steady state below base speed, with and without load: max |id| in each
+ * window within its limit. */
+static void id_stays_zero(int mm, const double band_a[5])
 {
     run_t r;
-    run_scenario("0 start\n0.1 speed 1000\n0.4 load 0.05\n0.7 speed 2000\n1.0 load 0\n"
-                 "1.3 speed 500\n1.6 end\n",
-                 FOC_EST_SENSORED, &r);
+    run("0 start\n0.1 speed 1000\n0.4 load 0.05\n0.7 speed 2000\n1.0 load 0\n"
+        "1.3 speed 500\n1.6 end\n",
+        mm, &r);
     const double windows[][2] = { { 0.3, 0.4 }, { 0.6, 0.7 }, { 0.9, 1.0 },
                                   { 1.2, 1.3 }, { 1.5, 1.6 } };
     for (size_t i = 0; i < sizeof windows / sizeof windows[0]; i++) {
         const double id_max = run_max_abs_id(&r, windows[i][0], windows[i][1]);
-        printf("steady state %.1f..%.1f s: max |id| = %.4f A (band %.4f A)\n", windows[i][0],
-               windows[i][1], id_max, ID_BAND_A);
-        TK_CHECK(id_max <= ID_BAND_A, "|id| %.4f A > %.4f A in %.1f..%.1f s", id_max,
-                 ID_BAND_A, windows[i][0], windows[i][1]);
+        printf("steady state %.1f..%.1f s: max |id| = %.4f A (limit %.4f A)\n", windows[i][0],
+               windows[i][1], id_max, band_a[i]);
+        TK_CHECK(id_max <= band_a[i], "|id| %.4f A > %.4f A in %.1f..%.1f s", id_max, band_a[i],
+                 windows[i][0], windows[i][1]);
     }
     run_free(&r);
 }
 
+#define ID_BAND_A (0.02 * FOC_I_BASE_A) /* the issue's +-2 % of the current base */
+
+/* Measured: 3.4, 25.7, 19.6, 3.1, 5.1 mA (the loaded windows 0.6-1.0 s
+ * the larger): the issue's 88 mA for the loaded ones (3.4 x, 4.5 x),
+ * 15 mA for the others (2.9-4.8 x). */
+static void case_id_stays_zero(void)
+{
+    const double band[5] = { 0.015, ID_BAND_A, ID_BAND_A, 0.015, 0.015 };
+    id_stays_zero(0, band);
+}
+/* Measured: 25.3, 51.1, 44.6, 29.9, 35.7 mA (the ADC noise): the issue's
+ * 88 mA (1.7-3.5 x). */
+static void case_id_stays_zero_mismatch(void)
+{
+    const double band[5] = { ID_BAND_A, ID_BAND_A, ID_BAND_A, ID_BAND_A, ID_BAND_A };
+    id_stays_zero(1, band);
+}
+
 /* A load the motor cannot carry within the current limit (0.2 Nm needs
  * about 3.3 A at Kt = 0.06 Nm/A), for 60 ms: the speed loop saturates and
- * the phase current must stay within the limit; once the load goes, the
- * speed comes back (no windup).  (Held longer, the rotor stalls and the
- * drive faults: case_overload_stall.) */
-static void case_current_limit_holds(void)
+ * the phase current must stay at the regulated limit, CURRENT_LIMIT_A x
+ * (1 - CURRENT_REF_MARGIN); once the load goes, the speed comes back (no
+ * windup).  (Held longer, the rotor stalls and the drive faults:
+ * case_overload_stall.) */
+static void current_limit_holds(int mm, double peak_dev_max_a, double back_max_s)
 {
     run_t r;
-    run_scenario("0 start\n0.1 speed 2000\n0.4 load 0.2\n0.46 load 0\n0.9 end\n",
-                 FOC_EST_SENSORED, &r);
+    run("0 start\n0.1 speed 2000\n0.4 load 0.2\n0.46 load 0\n0.9 end\n", mm, &r);
     const double back = run_last_outside(&r, 0.46, 0.9, 2000.0, 20.0) - 0.46;
-    printf("overload: peak phase current %.3f A (limit %.3f A); speed back within 1 %% "
-           "%.1f ms after the load goes\n",
-           r.peak_current_a, CURRENT_LIMIT_A, back * 1e3);
-    TK_CHECK(r.peak_current_a >= 0.9 * CURRENT_LIMIT_A,
-             "the test did not drive the current to the limit (peak %.3f A)", r.peak_current_a);
+    const double regulated = CURRENT_LIMIT_A * (1.0 - CURRENT_REF_MARGIN);
+    printf("overload: peak phase current %.4f A (regulated limit %.4f A, +-%.4f A; limit + 5 %% "
+           "%.3f A); speed back within 1 %% %.1f ms after the load goes (limit %.0f)\n",
+           r.peak_current_a, regulated, peak_dev_max_a, 1.05 * CURRENT_LIMIT_A, back * 1e3,
+           back_max_s * 1e3);
+    TK_CHECK(fabs(r.peak_current_a - regulated) <= peak_dev_max_a,
+             "peak %.4f A, the regulated limit %.4f A", r.peak_current_a, regulated);
     TK_CHECK(r.peak_current_a <= 1.05 * CURRENT_LIMIT_A, "peak %.3f A > limit + 5 %% (%.3f A)",
              r.peak_current_a, 1.05 * CURRENT_LIMIT_A);
-    TK_CHECK(back <= 0.2, "speed not back within 1 %% 200 ms after the overload (%.1f ms)",
-             back * 1e3);
+    TK_CHECK(back <= back_max_s, "speed not back within 1 %% (%.1f ms)", back * 1e3);
     run_free(&r);
 }
 
-/* The same load held: the rotor stalls (the plant's speed below 5 % of the
- * command) and the drive must say so, SPEED_FEEDBACK within 200 ms of the
- * stall (docs/safety.md), outputs off, the current within the limit. */
-static void case_overload_stall(void)
+/* Measured: the peak 0.8 / 12.0 mA off the regulated 2.25 A (it was only
+ * asked to lie between 2.25 A and 2.625 A), back after 36.3 / 38.6 ms
+ * (was 200 ms). */
+static void case_current_limit_holds(void) { current_limit_holds(0, 0.004, 0.15); }
+static void case_current_limit_holds_mismatch(void) { current_limit_holds(1, 0.04, 0.15); }
+
+/* The same load held: the rotor stalls (the plant's speed below 100 rpm)
+ * and the drive must say so, SPEED_FEEDBACK within 200 ms of the stall
+ * (docs/safety.md), outputs off, the current within the limit. */
+static void overload_stall(int mm, double fault_max_s)
 {
     run_t r;
-    run_scenario("0 start\n0.1 speed 2000\n0.4 load 0.2\n1.4 end\n", FOC_EST_SENSORED, &r);
+    run("0 start\n0.1 speed 2000\n0.4 load 0.2\n1.4 end\n", mm, &r);
     double t_stall = -1.0;
     for (size_t k = 0; k < r.n; k++) {
         if (r.rows[k].t_s >= 0.4 && fabs(r.rows[k].speed_rpm) < 100.0) {
@@ -120,51 +170,72 @@ static void case_overload_stall(void)
         }
     }
     const double t_fault = run_first_fault(&r, 0.4, "SPEED_FEEDBACK");
-    printf("held overload: stalled at %.3f s, SPEED_FEEDBACK at %.3f s (%.1f ms), peak %.3f A\n",
-           t_stall, t_fault, (t_fault - t_stall) * 1e3, r.peak_current_a);
+    const double i_after = run_max_phase_current(&r, t_fault + 0.005, 1.4);
+    printf("held overload: stalled at %.3f s, SPEED_FEEDBACK at %.3f s (%.1f ms, limit %.0f), "
+           "peak %.3f A, then %.4f A\n",
+           t_stall, t_fault, (t_fault - t_stall) * 1e3, fault_max_s * 1e3, r.peak_current_a,
+           i_after);
     TK_CHECK(t_stall > 0.0, "the rotor did not stall");
-    TK_CHECK(t_fault > 0.0 && t_fault - t_stall <= 0.2, "fault %.3f s after the stall",
+    TK_CHECK(t_fault > 0.0 && t_fault - t_stall <= fault_max_s, "fault %.3f s after the stall",
              t_fault - t_stall);
     TK_CHECK(r.peak_current_a <= 1.05 * CURRENT_LIMIT_A, "peak %.3f A", r.peak_current_a);
-    TK_CHECK(run_max_phase_current(&r, t_fault + 0.005, 1.4) < 0.01, "outputs not off");
+    TK_CHECK(i_after < 0.01, "outputs not off");
     run_free(&r);
 }
 
-static void case_reversal(void)
+/* Measured: 111.4 / 109.3 ms (the 200 ms of docs/safety.md: 1.8 x). */
+static void case_overload_stall(void) { overload_stall(0, 0.2); }
+static void case_overload_stall_mismatch(void) { overload_stall(1, 0.2); }
+
+static void reversal(int mm, double settle_max_s)
 {
     run_t r;
-    run_scenario("0 start\n0.1 speed 1000\n0.5 speed -1000\n1.0 end\n", FOC_EST_SENSORED, &r);
+    run("0 start\n0.1 speed 1000\n0.5 speed -1000\n1.0 end\n", mm, &r);
     const double settle = run_last_outside(&r, 0.5, 1.0, -1000.0, 10.0) - 0.5;
-    printf("reversal 1000 -> -1000 rpm: within 1 %% after %.1f ms\n", settle * 1e3);
-    TK_CHECK(settle <= 0.4, "reversal settle %.1f ms", settle * 1e3);
+    printf("reversal 1000 -> -1000 rpm: within 1 %% after %.1f ms (limit %.0f)\n", settle * 1e3,
+           settle_max_s * 1e3);
+    TK_CHECK(settle <= settle_max_s, "reversal settle %.1f ms", settle * 1e3);
     TK_CHECK(r.final_state == FOC_STATE_RUN && r.fault == 0, "state %s fault %s",
              foc_state_name(r.final_state), foc_fault_name(r.fault));
     run_free(&r);
 }
 
+/* Measured: 210.2 / 208.4 ms (the ramp alone takes 200 ms; 400 ms kept). */
+static void case_reversal(void) { reversal(0, 0.4); }
+static void case_reversal_mismatch(void) { reversal(1, 0.4); }
+
 /* The bus sags from 24 to 18 V: compensation keeps speed and currents. */
-static void case_bus_compensation(void)
+static void bus_compensation(int mm, double dev_max_rpm, double id_max_a)
 {
     run_t r;
-    run_scenario("0 start\n0.1 speed 1000\n0.4 load 0.03\n0.5 vdc 18\n0.8 end\n",
-                 FOC_EST_SENSORED, &r);
-    const double settle = run_last_outside(&r, 0.5, 0.8, 1000.0, 10.0) - 0.5;
+    run("0 start\n0.1 speed 1000\n0.4 load 0.03\n0.5 vdc 18\n0.8 end\n", mm, &r);
+    const double before = fmax(run_extreme_speed(&r, 0.45, 0.5, 0) - 1000.0,
+                               1000.0 - run_extreme_speed(&r, 0.45, 0.5, 1));
+    const double dev = fmax(run_extreme_speed(&r, 0.5, 0.8, 0) - 1000.0,
+                            1000.0 - run_extreme_speed(&r, 0.5, 0.8, 1));
     const double id_max = run_max_abs_id(&r, 0.6, 0.8);
-    printf("bus 24 -> 18 V at 1000 rpm: speed within 1 %% after %.1f ms, max |id| %.4f A\n",
-           settle * 1e3, id_max);
-    TK_CHECK(settle <= 0.05, "speed disturbed for %.1f ms by the bus step", settle * 1e3);
-    TK_CHECK(id_max <= ID_BAND_A, "|id| %.4f A", id_max);
+    printf("bus 24 -> 18 V at 1000 rpm: speed at most %.2f rpm off after (%.2f before; limit "
+           "%.2f), max |id| %.4f A (limit %.4f)\n",
+           dev, before, dev_max_rpm, id_max, id_max_a);
+    TK_CHECK(dev <= dev_max_rpm, "speed %.2f rpm off after the bus step", dev);
+    TK_CHECK(id_max <= id_max_a, "|id| %.4f A", id_max);
     run_free(&r);
 }
 
+/* Measured: the speed 2.94 / 3.90 rpm off after the step (it was asked to
+ * be back within 1 %, 10 rpm, after 50 ms and never left it), |id| 23.4 /
+ * 46.2 mA: 10 rpm and the issue's 88 mA kept (2.6-3.8 x). */
+static void case_bus_compensation(void) { bus_compensation(0, 10.0, ID_BAND_A); }
+static void case_bus_compensation_mismatch(void) { bus_compensation(1, 10.0, ID_BAND_A); }
+
 /* Hardware fault input: outputs off at once, latched, cleared by ack,
  * restart works. */
-static void case_overcurrent_latch_and_restart(void)
+static void overcurrent_latch_and_restart(int mm, double i_after_max_a, double settle_max_s)
 {
     run_t r;
-    run_scenario("0 start\n0.1 speed 1000\n0.3 overcurrent\n0.35 start\n0.45 ack\n"
-                 "0.5 start\n0.95 end\n",
-                 FOC_EST_SENSORED, &r);
+    run("0 start\n0.1 speed 1000\n0.3 overcurrent\n0.35 start\n0.45 ack\n"
+        "0.5 start\n0.95 end\n",
+        mm, &r);
     const size_t k = run_index_at(&r, 0.3);
     TK_CHECK(k + 1 < r.n, "run too short");
     const sim_row_t *trip = &r.rows[k];
@@ -175,28 +246,55 @@ static void case_overcurrent_latch_and_restart(void)
     TK_CHECK(before_ack->state[0] == 'F', "state before ack: %s", before_ack->state);
     /* bridge off: the current decays within a few periods (back-EMF < Vdc) */
     const sim_row_t *after = &r.rows[run_index_at(&r, 0.303)];
-    const double i_after = fmax(fabs(after->ia_a), fabs(after->ib_a));
-    TK_CHECK(i_after < 0.05, "current %.3f A 3 ms after the trip", i_after);
+    const double i_after = fmax(fabs(after->ia_a), fmax(fabs(after->ib_a), fabs(after->ic_a)));
     const double settle = run_last_outside(&r, 0.5, 0.95, 1000.0, 10.0) - 0.5;
-    TK_CHECK(r.final_state == FOC_STATE_RUN && settle < 0.4,
+    printf("over-current input: %.4f A 3 ms after the trip (limit %.4f), restarted: within 1 %% "
+           "of 1000 rpm %.1f ms after the start (limit %.0f)\n",
+           i_after, i_after_max_a, settle * 1e3, settle_max_s * 1e3);
+    TK_CHECK(i_after < i_after_max_a, "current %.4f A 3 ms after the trip", i_after);
+    TK_CHECK(r.final_state == FOC_STATE_RUN && settle < settle_max_s,
              "restart: state %s, settle %.1f ms", foc_state_name(r.final_state), settle * 1e3);
     run_free(&r);
 }
 
-static void case_stop_turns_outputs_off(void)
+/* Measured: 0.0000 A 3 ms after the trip (limit 50 mA -> 5 mA, about one
+ * count of the current ADC), restarted within 1 % after 170.9 / 169.3 ms
+ * (400 ms kept: 2.3 x). */
+static void case_overcurrent_latch_and_restart(void)
+{
+    overcurrent_latch_and_restart(0, 0.005, 0.4);
+}
+static void case_overcurrent_latch_and_restart_mismatch(void)
+{
+    overcurrent_latch_and_restart(1, 0.005, 0.4);
+}
+
+static void stop_turns_outputs_off(int mm, double i_max_a, double speed_max_rpm)
 {
     run_t r;
-    run_scenario("0 start\n0.1 speed 1000\n0.4 stop\n0.9 end\n", FOC_EST_SENSORED, &r);
-    TK_CHECK(r.final_state == FOC_STATE_IDLE, "final state %s", foc_state_name(r.final_state));
+    run("0 start\n0.1 speed 1000\n0.4 stop\n0.9 end\n", mm, &r);
     const sim_row_t *end = &r.rows[r.n - 1];
-    TK_CHECK(fabs(end->ia_a) < 0.01 && fabs(end->ib_a) < 0.01, "current after stop %.3f A",
-             fabs(end->ia_a));
-    TK_CHECK(fabs(end->speed_rpm) < 100.0, "speed after stop %.1f rpm", end->speed_rpm);
+    const double i_end = fmax(fabs(end->ia_a), fmax(fabs(end->ib_a), fabs(end->ic_a)));
+    printf("stop at 1000 rpm: final %s, 0.5 s later %.4f A (limit %.4f), %.2f rpm (limit %.1f)\n",
+           foc_state_name(r.final_state), i_end, i_max_a, end->speed_rpm, speed_max_rpm);
+    TK_CHECK(r.final_state == FOC_STATE_IDLE, "final state %s", foc_state_name(r.final_state));
+    TK_CHECK(i_end < i_max_a, "current after stop %.4f A", i_end);
+    TK_CHECK(fabs(end->speed_rpm) < speed_max_rpm, "speed after stop %.1f rpm", end->speed_rpm);
     run_free(&r);
 }
 
-TK_CASES(TK_CASE(case_speed_steps), TK_CASE(case_load_step_recovery),
-         TK_CASE(case_id_stays_zero), TK_CASE(case_current_limit_holds),
-         TK_CASE(case_overload_stall),
-         TK_CASE(case_reversal), TK_CASE(case_bus_compensation),
-         TK_CASE(case_overcurrent_latch_and_restart), TK_CASE(case_stop_turns_outputs_off))
+/* Measured: 0.0000 A and 0.00 rpm 0.5 s after the stop (limits 10 mA
+ * kept, 100 rpm -> 1 rpm). */
+static void case_stop_turns_outputs_off(void) { stop_turns_outputs_off(0, 0.01, 1.0); }
+static void case_stop_turns_outputs_off_mismatch(void) { stop_turns_outputs_off(1, 0.01, 1.0); }
+
+TK_CASES(TK_CASE(case_speed_steps), TK_CASE(case_speed_steps_mismatch),
+         TK_CASE(case_load_step_recovery), TK_CASE(case_load_step_recovery_mismatch),
+         TK_CASE(case_id_stays_zero), TK_CASE(case_id_stays_zero_mismatch),
+         TK_CASE(case_current_limit_holds), TK_CASE(case_current_limit_holds_mismatch),
+         TK_CASE(case_overload_stall), TK_CASE(case_overload_stall_mismatch),
+         TK_CASE(case_reversal), TK_CASE(case_reversal_mismatch),
+         TK_CASE(case_bus_compensation), TK_CASE(case_bus_compensation_mismatch),
+         TK_CASE(case_overcurrent_latch_and_restart),
+         TK_CASE(case_overcurrent_latch_and_restart_mismatch),
+         TK_CASE(case_stop_turns_outputs_off), TK_CASE(case_stop_turns_outputs_off_mismatch))
