@@ -30,22 +30,32 @@ void run_scenario_with(const char *text, const sim_options_t *opt, run_t *out)
     }
     size_t cap = 1024;
     out->rows = malloc(cap * sizeof *out->rows);
+    out->limited = malloc(cap);
     out->n = 0;
     sim_row_t row;
-    while (out->rows != NULL && sim_step(&sim, &row)) {
+    while (out->rows != NULL && out->limited != NULL && sim_step(&sim, &row)) {
         if (out->n == cap) {
             cap *= 2;
             sim_row_t *grown = realloc(out->rows, cap * sizeof *grown);
-            if (grown == NULL) {
+            unsigned char *grown_limited = realloc(out->limited, cap);
+            if (grown != NULL) {
+                out->rows = grown;
+            }
+            if (grown_limited != NULL) {
+                out->limited = grown_limited;
+            }
+            if (grown == NULL || grown_limited == NULL) {
                 free(out->rows);
+                free(out->limited);
                 out->rows = NULL;
+                out->limited = NULL;
                 break;
             }
-            out->rows = grown;
         }
+        out->limited[out->n] = sim.ctrl.speed_limited;
         out->rows[out->n++] = row;
     }
-    if (out->rows == NULL) {
+    if (out->rows == NULL || out->limited == NULL) {
         fprintf(stderr, "out of memory\n");
         exit(2);
     }
@@ -61,7 +71,9 @@ void run_scenario_with(const char *text, const sim_options_t *opt, run_t *out)
 void run_free(run_t *r)
 {
     free(r->rows);
+    free(r->limited);
     r->rows = NULL;
+    r->limited = NULL;
     r->n = 0;
 }
 
@@ -94,6 +106,16 @@ double run_extreme_speed(const run_t *r, double t0, double t1, int below)
         ext = below ? fmin(ext, v) : fmax(ext, v);
     }
     return ext;
+}
+
+double run_share_limited(const run_t *r, double t0, double t1)
+{
+    size_t n = 0, limited = 0;
+    for (size_t k = run_index_at(r, t0); k < r->n && r->rows[k].t_s < t1; k++) {
+        limited += r->limited[k] != 0u;
+        n++;
+    }
+    return n ? (double)limited / (double)n : 0.0;
 }
 
 double run_max_abs_id(const run_t *r, double t0, double t1)

@@ -11,6 +11,7 @@
 
 typedef struct {
     sim_row_t *rows;
+    unsigned char *limited; /* per row: the controller's speed_limited */
     size_t n;
     double closed_loop_time_s;
     double peak_current_a;
@@ -63,6 +64,10 @@ double run_mean_speed(const run_t *r, double t0, double t1);
 
 /* Largest true |phase current| in [t0, t1). */
 double run_max_phase_current(const run_t *r, double t0, double t1);
+
+/* Share of the rows in [t0, t1) in which the controller reported
+ * speed_limited (0 if no row). */
+double run_share_limited(const run_t *r, double t0, double t1);
 
 /* Largest |id| in [t0, t1). */
 double run_max_abs_id(const run_t *r, double t0, double t1);

@@ -1,8 +1,12 @@
 /*
  * The application on the build's motor (Hurst075 by default) with its
  * configured estimator (PLL): sensorless start-up, field weakening, stall
- * detection, fault classes and braking, with the limits of the
- * application issue.
+ * detection, fault classes and braking.  Every case runs on the nominal
+ * plant and, as case_*_mismatch, on the stated controller-plant mismatch
+ * (scenario_run.h: Rs +30 %, L -20 %, flux +10 %, 2 codes of ADC noise,
+ * the board's dead time).  Limits: the application issue's where they are
+ * within about 5 x what is measured, else about 3-5 x the measured figure
+ * or a closed form (in the comments: nominal / mismatch).
  */
 #include <math.h>
 #include <stdio.h>
@@ -14,20 +18,39 @@
 
 #define LIMIT_A (1.05 * CURRENT_LIMIT_A) /* limit + 5 % */
 
-static void run_default(const char *text, run_t *r)
+/* The scenario on the nominal plant, or after the mismatch's lines. */
+static void run_est(const char *scenario, int mm, foc_est_kind_t est, run_t *r)
 {
-    run_scenario(text, FOC_ESTIMATOR, r);
+    char text[1024];
+    run_scenario(run_text(text, sizeof text, mm, scenario), est, r);
+}
+
+static void run_default(const char *scenario, int mm, run_t *r)
+{
+    run_est(scenario, mm, FOC_ESTIMATOR, r);
+}
+
+static void run_opt(const char *scenario, int mm, const sim_options_t *opt, run_t *r)
+{
+    char text[1024];
+    run_scenario_with(run_text(text, sizeof text, mm, scenario), opt, r);
+}
+
+static const char *plant_name(int mm)
+{
+    return mm ? " [mismatch]" : "";
 }
 
 /* 12 rotor angles x loads {0, 0.02, 0.05} Nm x inertia {1, 5} x default:
- * every start reaches RUN and then the commanded 1000 rpm, with estimator
- * `est`. */
-static void startup_matrix(foc_est_kind_t est)
+ * every start reaches RUN and then the commanded 1000 rpm (the mean over
+ * 1.4-1.6 s within `speed_dev_max` rpm), within `t_run_max` s, with
+ * estimator `est`. */
+static void startup_matrix(foc_est_kind_t est, int mm, double speed_dev_max, double t_run_max)
 {
     const double loads[] = { 0.0, 0.02, 0.05 };
     const double inertias[] = { 1.0, 5.0 };
     int ok = 0, total = 0;
-    double worst = 0.0;
+    double worst = 0.0, worst_dev = 0.0;
     char worst_case[96] = "";
     for (size_t j = 0; j < 2; j++) {
         for (size_t l = 0; l < 3; l++) {
@@ -37,13 +60,14 @@ static void startup_matrix(foc_est_kind_t est)
                          "0 plant j %g\n0 angle %d\n0 load %g\n0 start\n0 speed 1000\n1.6 end\n",
                          inertias[j] * MOTOR_INERTIA_KGM2, a, loads[l]);
                 run_t r;
-                run_scenario(text, est, &r);
+                run_est(text, mm, est, &r);
                 const double t_run = run_first_state(&r, 0.0, "RUN");
                 const double speed = run_mean_speed(&r, 1.4, 1.6);
                 const int good = t_run >= 0.0 && r.final_state == FOC_STATE_RUN && r.fault == 0 &&
-                                 fabs(speed - 1000.0) <= 20.0;
+                                 fabs(speed - 1000.0) <= speed_dev_max;
                 total++;
                 ok += good;
+                worst_dev = fmax(worst_dev, fabs(speed - 1000.0));
                 if (!good) {
                     printf("start FAILED: angle %d load %.2f inertia %.0fx: RUN at %.3f s, "
                            "final %s %s, speed %.1f\n",
@@ -59,76 +83,188 @@ static void startup_matrix(foc_est_kind_t est)
             }
         }
     }
-    printf("start-up (%s): %d/%d reached RUN and 1000 rpm; worst start->RUN %.1f ms (%s)\n",
-           foc_est_name(est), ok, total, worst * 1e3, worst_case);
+    printf("start-up (%s)%s: %d/%d reached RUN and 1000 rpm (worst mean %.2f rpm off, limit "
+           "%.2f); worst start->RUN %.1f ms (%s; limit %.0f)\n",
+           foc_est_name(est), plant_name(mm), ok, total, worst_dev, speed_dev_max, worst * 1e3,
+           worst_case, t_run_max * 1e3);
     TK_CHECK(ok == total, "%d of %d starts failed", total - ok, total);
-    TK_CHECK(worst <= 0.5, "worst start->RUN %.1f ms > 500 ms", worst * 1e3);
+    TK_CHECK(worst <= t_run_max, "worst start->RUN %.1f ms", worst * 1e3);
 }
 
-static void case_startup_matrix(void)
+/* Measured, PLL / Luenberger / flux: the mean speed at most 0.22 / 0.23 /
+ * 0.21 rpm off (0.34 / 0.49 / 0.39 on the mismatch; the limit was 20 rpm),
+ * start->RUN 385.0 / 384.5 / 385.5 ms at worst (384.5 / 397.0 / 385.5;
+ * the issue's 500 ms kept: 1.3 x). */
+static void case_startup_matrix(void) { startup_matrix(FOC_ESTIMATOR, 0, 1.0, 0.5); }
+static void case_startup_matrix_mismatch(void) { startup_matrix(FOC_ESTIMATOR, 1, 1.5, 0.5); }
+static void case_startup_matrix_luenberger(void) { startup_matrix(FOC_EST_LUENBERGER, 0, 1.0, 0.5); }
+static void case_startup_matrix_luenberger_mismatch(void)
 {
-    startup_matrix(FOC_ESTIMATOR);
+    startup_matrix(FOC_EST_LUENBERGER, 1, 1.5, 0.5);
 }
+static void case_startup_matrix_flux(void) { startup_matrix(FOC_EST_FLUX, 0, 1.0, 0.5); }
+static void case_startup_matrix_flux_mismatch(void) { startup_matrix(FOC_EST_FLUX, 1, 1.5, 0.5); }
 
-static void case_startup_matrix_luenberger(void)
-{
-    startup_matrix(FOC_EST_LUENBERGER);
-}
-
-static void case_startup_matrix_flux(void)
-{
-    startup_matrix(FOC_EST_FLUX);
-}
-
-/* A rotor locked before `start` never reaches RUN: STARTUP_FAILED within
- * the start-up time, outputs off. */
-static void case_locked_rotor_fails_startup(void)
+/* A rotor locked before `start` never reaches RUN: STARTUP_FAILED when
+ * the start-up times out, CALIB_TIME_S + STARTUP_TIMEOUT_S after the
+ * start, within one slow tick (measured: exactly then; the limit was
+ * that + 10 ms, with no lower bound), outputs off. */
+static void locked_rotor_fails_startup(int mm)
 {
     for (int a = 0; a < 360; a += 90) {
         char text[128];
         snprintf(text, sizeof text, "0 lock\n0 angle %d\n0 start\n0 speed 1000\n2.0 end\n", a);
         run_t r;
-        run_default(text, &r);
+        run_default(text, mm, &r);
         const double t_fault = run_first_fault(&r, 0.0, "STARTUP_FAILED");
-        const double limit = CALIB_TIME_S + STARTUP_TIMEOUT_S + 0.01;
-        printf("locked rotor at %3d deg: STARTUP_FAILED at %.3f s (limit %.3f s), RUN %s\n", a,
-               t_fault, limit, run_first_state(&r, 0.0, "RUN") < 0 ? "never" : "REACHED");
+        const double expect = CALIB_TIME_S + STARTUP_TIMEOUT_S;
+        const double i_after = run_max_phase_current(&r, t_fault + 0.005, 2.0);
+        printf("locked rotor at %3d deg%s: STARTUP_FAILED at %.4f s (expected %.4f s +- %.4f s), "
+               "RUN %s, then %.4f A\n",
+               a, plant_name(mm), t_fault, expect, FOC_SLOW_TS_S,
+               run_first_state(&r, 0.0, "RUN") < 0 ? "never" : "REACHED", i_after);
         TK_CHECK(run_first_state(&r, 0.0, "RUN") < 0.0, "angle %d: reached RUN", a);
-        TK_CHECK(t_fault > 0.0 && t_fault <= limit, "angle %d: fault at %.3f s", a, t_fault);
+        TK_CHECK(fabs(t_fault - expect) <= FOC_SLOW_TS_S,
+                 "angle %d: fault at %.4f s", a, t_fault);
         const size_t k = run_index_at(&r, t_fault);
         TK_CHECK(k < r.n && r.rows[k].bridge == PMSM_BRIDGE_OFF, "angle %d: outputs on", a);
-        TK_CHECK(run_max_phase_current(&r, t_fault + 0.005, 2.0) < 0.01, "angle %d: current", a);
+        TK_CHECK(i_after < 0.01, "angle %d: current %.4f A", a, i_after);
         run_free(&r);
     }
 }
 
+static void case_locked_rotor_fails_startup(void) { locked_rotor_fails_startup(0); }
+static void case_locked_rotor_fails_startup_mismatch(void) { locked_rotor_fails_startup(1); }
+
+/* The plant of a variant: magnet flux, Rs, Ld = Lq (round rotor). */
+typedef struct {
+    double psi, rs, l;
+} plant_t;
+
+static plant_t plant_of(int mm)
+{
+    const plant_t p = { (mm ? 1.1 : 1.0) * FOC_FLUX_WB, (mm ? 1.3 : 1.0) * MOTOR_RS_OHM,
+                        (mm ? 0.8 : 1.0) * MOTOR_LD_H };
+    return p;
+}
+
+/* Closed forms in double, steady state: the voltage amplitude the plant
+ * needs at `rpm` with the load `load_nm` (plus userparms.h's friction)
+ * and the d current `id`: vd = Rs id - w L iq, vq = Rs iq + w (psi + L
+ * id), iq from the torque 1.5 p psi iq. */
+static double plant_voltage(const plant_t *p, double rpm, double load_nm, double id)
+{
+    const double pi = 3.14159265358979323846;
+    const double w = rpm * MOTOR_POLE_PAIRS * 2.0 * pi / 60.0;
+    const double friction = MOTOR_VISCOUS_NM_PER_KRPM * rpm / 1000.0 + MOTOR_COULOMB_NM;
+    const double iq = (load_nm + friction) / (1.5 * MOTOR_POLE_PAIRS * p->psi);
+    const double vd = p->rs * id - w * p->l * iq;
+    const double vq = p->rs * iq + w * (p->psi + p->l * id);
+    return sqrt(vd * vd + vq * vq);
+}
+
+/* The voltage limit VOLTAGE_LIMIT_FRACTION x Vdc / sqrt(3), and field
+ * weakening's target, FW_VOLTAGE_MARGIN x that. */
+#define V_MAX_V (VOLTAGE_LIMIT_FRACTION * BOARD_VDC_NOMINAL_V / 1.7320508075688772)
+#define V_FW_V (FW_VOLTAGE_MARGIN * V_MAX_V)
+
+/* The speed at which the plant needs `v` with d current `id` (bisection:
+ * the voltage rises with the speed). */
+static double speed_at_voltage(const plant_t *p, double load_nm, double id, double v)
+{
+    double lo = 0.0, hi = 4.0 * MOTOR_MAX_SPEED_RPM;
+    for (int k = 0; k < 60; k++) {
+        const double rpm = 0.5 * (lo + hi);
+        if (plant_voltage(p, rpm, load_nm, id) > v) {
+            hi = rpm;
+        } else {
+            lo = rpm;
+        }
+    }
+    return 0.5 * (lo + hi);
+}
+
+/* The d current, within [-FW_ID_MAX_A, 0], that needs `v` at `rpm`
+ * (bisection: the voltage falls as id goes negative). */
+static double id_at_voltage(const plant_t *p, double rpm, double load_nm, double v)
+{
+    double lo = -FW_ID_MAX_A, hi = 0.0;
+    for (int k = 0; k < 60; k++) {
+        const double id = 0.5 * (lo + hi);
+        if (plant_voltage(p, rpm, load_nm, id) > v) {
+            hi = id;
+        } else {
+            lo = id;
+        }
+    }
+    return 0.5 * (lo + hi);
+}
+
+/* The speed a command reaches with the load: the command, or, where the
+ * voltage runs out with field weakening at -FW_ID_MAX_A, that speed. */
+static double reachable_rpm(const plant_t *p, double command_rpm, double load_nm)
+{
+    const double limit = speed_at_voltage(p, load_nm, -FW_ID_MAX_A, V_MAX_V);
+    return fabs(command_rpm) < limit ? command_rpm : copysign(limit, command_rpm);
+}
+
 /* 4000 rpm asked, above the motor's maximum: the command is clamped to
  * MOTOR_MAX_SPEED_RPM (3500 rpm, 1.75x nominal), which on 24 V needs field
- * weakening; within 80 rpm at no load, held with 0.015 Nm, current within
- * the limit, no fault. */
-static void case_field_weakening_max_speed(void)
+ * weakening; held with 0.015 Nm, current within the limit, no fault.
+ * Closed form: the speed reached (3500 rpm, or where the voltage runs out
+ * with -FW_ID_MAX_A: the mismatch's flux +10 % and Rs +30 % with the
+ * load) within `dev_max` rpm, and the d current the voltage mode settles
+ * on, the one whose voltage is its target (or -FW_ID_MAX_A), within
+ * `id_tol` A; where the speed is limited, the controller says so over
+ * the last 0.1 s. */
+static void field_weakening_max_speed(int mm, double dev_max, double id_tol)
 {
     run_t r;
-    run_default("0 start\n0 speed 4000\n1.2 load 0.015\n2.0 end\n", &r);
+    run_default("0 start\n0 speed 4000\n1.2 load 0.015\n2.0 end\n", mm, &r);
     const double no_load = run_mean_speed(&r, 1.0, 1.2);
     const double loaded = run_mean_speed(&r, 1.8, 2.0);
     const double peak = run_max_phase_current(&r, 0.0, 2.0);
-    const double id = r.rows[r.n - 1].id_a;
-    printf("field weakening: %.1f rpm no load, %.1f rpm with 0.015 Nm, peak %.3f A, id %.3f A\n",
-           no_load, loaded, peak, id);
-    TK_CHECK(fabs(no_load - MOTOR_MAX_SPEED_RPM) <= 80.0, "no load %.1f rpm", no_load);
-    TK_CHECK(fabs(loaded - MOTOR_MAX_SPEED_RPM) <= 80.0, "loaded %.1f rpm", loaded);
-    TK_CHECK(id < -0.1, "no field weakening (id %.3f A)", id);
+    double id = 0.0;
+    const size_t k0 = run_index_at(&r, 1.9);
+    for (size_t k = k0; k < r.n; k++) {
+        id += r.rows[k].id_a / (double)(r.n - k0);
+    }
+    const plant_t p = plant_of(mm);
+    const double want_free = reachable_rpm(&p, MOTOR_MAX_SPEED_RPM, 0.0);
+    const double want_loaded = reachable_rpm(&p, MOTOR_MAX_SPEED_RPM, 0.015);
+    const int limited = want_loaded < MOTOR_MAX_SPEED_RPM;
+    const double id_expect = limited ? -FW_ID_MAX_A : id_at_voltage(&p, want_loaded, 0.015, V_FW_V);
+    const double share = run_share_limited(&r, 1.9, 2.0);
+    printf("field weakening%s: %.2f rpm no load (closed form %.2f), %.2f rpm with 0.015 Nm "
+           "(closed form %.2f; limit +-%.1f), peak %.3f A, id %.4f A (closed form %.4f A, "
+           "+-%.4f), speed_limited %.0f %% of the last 0.1 s\n",
+           plant_name(mm), no_load, want_free, loaded, want_loaded, dev_max, peak, id, id_expect,
+           id_tol, 100.0 * share);
+    TK_CHECK(fabs(no_load - want_free) <= dev_max, "no load %.1f rpm", no_load);
+    TK_CHECK(fabs(loaded - want_loaded) <= dev_max, "loaded %.1f rpm", loaded);
+    TK_CHECK(fabs(id - id_expect) <= id_tol, "id %.4f A, closed form %.4f A", id, id_expect);
+    TK_CHECK(!limited || share >= 0.5, "speed_limited %.0f %% of the time", 100.0 * share);
     TK_CHECK(peak <= LIMIT_A, "peak %.3f A", peak);
     TK_CHECK(r.fault == 0, "fault %s", foc_fault_name(r.fault));
     run_free(&r);
 }
 
+/* Measured: 0.29 and 0.25 rpm off 3500 rpm (the limit was 80 rpm), id
+ * 2.1 mA off the closed form (it was only asked to be below -0.1 A); on
+ * the mismatch 0.17 rpm off at no load, 10.4 rpm (0.31 %) off the closed
+ * form's 3376 rpm with the load, id 0.5 mA off -FW_ID_MAX_A. */
+static void case_field_weakening_max_speed(void) { field_weakening_max_speed(0, 1.0, 0.01); }
+static void case_field_weakening_max_speed_mismatch(void)
+{
+    field_weakening_max_speed(1, 35.0, 0.002);
+}
+
 /* A sensorless command below SENSORLESS_MIN_SPEED_RPM (by default
  * STARTUP_MIN_SPEED_RPM, 250 rpm) turns the rotor at that speed, its sign
  * kept: judged on the plant's speed, against the same command with the
- * floor set to 0 (the rotor then turns at the command). */
-static void case_low_command_raised(void)
+ * floor set to 0 (the rotor then turns at the command), within `tol` of
+ * the speed wanted. */
+static void low_command_raised(int mm, double tol)
 {
     const double asked[] = { 100.0, -100.0 };
     for (unsigned k = 0; k < 2u; k++) {
@@ -140,12 +276,14 @@ static void case_low_command_raised(void)
             sim_default_options(&opt);
             opt.min_speed_rpm = min_speed; /* -1: userparms.h's floor */
             run_t r;
-            run_scenario_with(text, &opt, &r);
+            run_opt(text, mm, &opt, &r);
             const double want = (min_speed < 0) ? floor : asked[k];
             const double got = run_mean_speed(&r, 2.0, 2.5);
-            printf("%+.0f rpm asked, floor %s: %.1f rpm (want %.0f), fault %s\n", asked[k],
-                   min_speed < 0 ? "default" : "0", got, want, foc_fault_name(r.fault));
-            TK_CHECK(fabs(got - want) <= 0.05 * fabs(want), "%+.0f rpm asked: %.1f rpm",
+            printf("%+.0f rpm asked%s, floor %s: %.2f rpm (want %.0f, %.3f %% off, limit %.2f), "
+                   "fault %s\n",
+                   asked[k], plant_name(mm), min_speed < 0 ? "default" : "0", got, want,
+                   100.0 * fabs(got - want) / fabs(want), 100.0 * tol, foc_fault_name(r.fault));
+            TK_CHECK(fabs(got - want) <= tol * fabs(want), "%+.0f rpm asked: %.1f rpm",
                      asked[k], got);
             TK_CHECK(r.fault == 0, "fault %s", foc_fault_name(r.fault));
             run_free(&r);
@@ -153,80 +291,141 @@ static void case_low_command_raised(void)
     }
 }
 
+/* Measured: 0.141 % off at worst, 0.382 % on the mismatch (the limit was
+ * 5 %). */
+static void case_low_command_raised(void) { low_command_raised(0, 0.005); }
+static void case_low_command_raised_mismatch(void) { low_command_raised(1, 0.012); }
+
 /* The maximum speed asked with field weakening off: 24 V cannot reach it.
  * The speed settles where the voltage runs out (measured from the plant,
- * and below the 3500 rpm asked), steady within 1 % over its last 0.3 s,
- * current within the limit, no fault; the controller says so. */
-static void case_unreachable_speed_settles(void)
+ * and within `tol` of the closed form: where the plant needs the voltage
+ * limit with id = 0), steady within 1 % over its last 0.3 s, current
+ * within the limit, no fault; the controller says so (speed_limited over
+ * at least half of the last 0.3 s). */
+static void unreachable_speed_settles(int mm, double tol, double share_min)
 {
     sim_options_t opt;
     sim_default_options(&opt);
     opt.fw_mode = FW_MODE_OFF;
     run_t r;
-    run_scenario_with("0 start\n0 speed 3500\n2.0 end\n", &opt, &r);
+    run_opt("0 start\n0 speed 3500\n2.0 end\n", mm, &opt, &r);
     const double reached = run_mean_speed(&r, 1.7, 2.0);
     const double early = run_mean_speed(&r, 1.4, 1.7);
     const double peak = run_max_phase_current(&r, 0.0, 2.0);
-    printf("no field weakening: %.1f rpm (asked 3500), peak %.3f A, speed_limited %d\n", reached,
-           peak, r.speed_limited);
+    const plant_t p = plant_of(mm);
+    const double expect = speed_at_voltage(&p, 0.0, 0.0, V_MAX_V);
+    const double share = run_share_limited(&r, 1.7, 2.0);
+    printf("no field weakening%s: %.1f rpm (asked 3500; closed form %.1f rpm, %+.2f %%, limit "
+           "+-%.1f %%), %.1f rpm 0.3 s before, peak %.3f A, speed_limited %.0f %% of the last "
+           "0.3 s\n",
+           plant_name(mm), reached, expect, 100.0 * (reached / expect - 1.0), 100.0 * tol, early,
+           peak, 100.0 * share);
     TK_CHECK(reached < 3400.0 && reached > 2500.0, "%.1f rpm", reached);
+    TK_CHECK(fabs(reached / expect - 1.0) <= tol, "%.1f rpm, closed form %.1f rpm", reached,
+             expect);
     TK_CHECK(fabs(reached - early) <= 0.01 * reached, "not settled: %.1f then %.1f rpm", early,
              reached);
     TK_CHECK(peak <= LIMIT_A, "peak %.3f A", peak);
     TK_CHECK(r.fault == 0, "fault %s", foc_fault_name(r.fault));
-    TK_CHECK(r.speed_limited == 1, "the controller does not report it");
+    TK_CHECK(share >= share_min, "the controller reports it %.0f %% of the time", 100.0 * share);
     run_free(&r);
 }
 
-/* Rotor locked in RUN: SPEED_FEEDBACK within 200 ms, outputs off. */
-static void case_stall_detected(void)
+/* Measured: +3.02 % off the closed form (the dead-time compensation,
+ * which follows the saturated q reference while the q current is almost
+ * 0, adds voltage), speed_limited 100 % of the time (the final sample was
+ * asked); on the mismatch -3.19 %, and speed_limited 59 %: with the noise
+ * |Vdq| leaves the last 1/64 of the limit now and then. */
+static void case_unreachable_speed_settles(void) { unreachable_speed_settles(0, 0.1, 0.9); }
+static void case_unreachable_speed_settles_mismatch(void)
+{
+    unreachable_speed_settles(1, 0.1, 0.2);
+}
+
+/* Rotor locked in RUN: SPEED_FEEDBACK once the back-EMF check has counted
+ * STALL_TICKS slow ticks (the PLL's; 30 ms on the Hurst075) and within
+ * `extra` s after that (the limit was 200 ms), outputs off. */
+static void stall_detected(int mm, double extra)
 {
     const double speeds[] = { 500.0, 1000.0, 2000.0 };
+    const double t_min = STALL_TICKS * FOC_SLOW_TS_S;
     for (size_t i = 0; i < 3; i++) {
         char text[128];
         snprintf(text, sizeof text, "0 start\n0 speed %g\n1.0 lock\n1.6 end\n", speeds[i]);
         run_t r;
-        run_default(text, &r);
+        run_default(text, mm, &r);
         const double t = run_first_fault(&r, 1.0, "SPEED_FEEDBACK") - 1.0;
-        printf("locked in RUN at %4.0f rpm: SPEED_FEEDBACK after %.1f ms\n", speeds[i], t * 1e3);
-        TK_CHECK(t >= 0.0 && t <= 0.2, "%.0f rpm: %.1f ms", speeds[i], t * 1e3);
+        printf("locked in RUN at %4.0f rpm%s: SPEED_FEEDBACK after %.1f ms (limits %.1f-%.1f)\n",
+               speeds[i], plant_name(mm), t * 1e3, t_min * 1e3, (t_min + extra) * 1e3);
+        TK_CHECK(t >= t_min && t <= t_min + extra, "%.0f rpm: %.1f ms", speeds[i], t * 1e3);
         TK_CHECK(r.rows[r.n - 1].bridge == PMSM_BRIDGE_OFF, "%.0f rpm: outputs on", speeds[i]);
         run_free(&r);
     }
 }
 
+/* Measured: 33.0 ms at every speed, on both plants (the limit was 200 ms,
+ * one-sided): 30 ms of STALL_TICKS and 3 ms for the EMF to fall below
+ * the ratio; 10 ms allowed after the 30. */
+static void case_stall_detected(void) { stall_detected(0, 0.010); }
+static void case_stall_detected_mismatch(void) { stall_detected(1, 0.010); }
+
 /* 10 s of speed steps 500 <-> 3000 rpm, load steps 0 <-> 0.05 Nm and a
- * reversal 1000 -> -1000 rpm: no fault, and the speeds are reached. */
-static void case_no_false_trip(void)
+ * reversal 1000 -> -1000 rpm: no fault, and the speeds are reached (the
+ * mean over the 50 ms before each check within `tol` of the command, or,
+ * where the closed form says the voltage runs out first, within
+ * `tol_limited` of that speed: the mismatch at 3000 rpm with 0.05 Nm). */
+static void no_false_trip(int mm, double tol, double tol_limited)
 {
     run_t r;
     run_default("0 start\n0 speed 500\n1 speed 3000\n2 load 0.05\n3 speed 500\n4 load 0\n"
                 "4.5 speed 3000\n5.5 speed 500\n5.6 load 0.05\n6.5 load 0\n7 speed 1000\n"
                 "7.5 speed -1000\n8.7 speed 3000\n10 end\n",
-                &r);
-    const double checks[][2] = { { 0.9, 500 }, { 1.9, 3000 }, { 2.9, 3000 }, { 3.9, 500 },
-                                 { 5.4, 3000 }, { 6.4, 500 }, { 7.4, 1000 }, { 8.6, -1000 },
-                                 { 9.9, 3000 } };
+                mm, &r);
+    /* time, command, load */
+    const double checks[][3] = { { 0.9, 500, 0 },     { 1.9, 3000, 0 },   { 2.9, 3000, 0.05 },
+                                 { 3.9, 500, 0.05 },  { 5.4, 3000, 0 },   { 6.4, 500, 0.05 },
+                                 { 7.4, 1000, 0 },    { 8.6, -1000, 0 },  { 9.9, 3000, 0 } };
+    const plant_t p = plant_of(mm);
+    double worst = 0.0, worst_limited = 0.0;
     for (size_t i = 0; i < sizeof checks / sizeof checks[0]; i++) {
         const double v = run_mean_speed(&r, checks[i][0] - 0.05, checks[i][0]);
-        TK_CHECK(fabs(v - checks[i][1]) <= 0.02 * fabs(checks[i][1]), "at %.2f s: %.1f rpm",
-                 checks[i][0], v);
+        const double want = reachable_rpm(&p, checks[i][1], checks[i][2]);
+        const int limited = want != checks[i][1];
+        const double off = fabs(v - want) / fabs(want);
+        if (limited) {
+            worst_limited = fmax(worst_limited, off);
+            printf("  at %.1f s: %.1f rpm, %.0f asked; the voltage runs out at %.1f rpm (closed "
+                   "form): %.2f %% off\n",
+                   checks[i][0], v, checks[i][1], want, 100.0 * off);
+        } else {
+            worst = fmax(worst, off);
+        }
+        TK_CHECK(off <= (limited ? tol_limited : tol), "at %.2f s: %.1f rpm, want %.1f rpm",
+                 checks[i][0], v, want);
     }
-    printf("10 s profile: final %s, fault %s\n", foc_state_name(r.final_state),
-           foc_fault_name(r.fault));
+    printf("10 s profile%s: final %s, fault %s, the speeds at most %.3f %% off (limit %.3f %%), "
+           "the voltage-limited ones %.3f %% (limit %.1f %%)\n",
+           plant_name(mm), foc_state_name(r.final_state), foc_fault_name(r.fault), 100.0 * worst,
+           100.0 * tol, 100.0 * worst_limited, 100.0 * tol_limited);
     TK_CHECK(r.fault == 0 && r.final_state == FOC_STATE_RUN, "%s %s",
              foc_state_name(r.final_state), foc_fault_name(r.fault));
     run_free(&r);
 }
 
+/* Measured: 0.022 % at worst (the limit was 2 %); on the mismatch 0.50 %,
+ * and 2.32 % off the closed form where the voltage runs out. */
+static void case_no_false_trip(void) { no_false_trip(0, 0.001, 0.001); }
+static void case_no_false_trip_mismatch(void) { no_false_trip(1, 0.02, 0.08); }
+
 /* One fault class: trips (name, outputs off within `off_within_s`), stays
- * latched while the cause lasts and until `ack`, then the motor restarts.
+ * latched while the cause lasts and until `ack`, then the motor restarts
+ * (the mean speed over 2.3-2.4 s within `restart_tol` rpm of 1000).
  * The cause `inject` lies just beyond the threshold (1.5 %: a threshold
  * scaled wrong by more than that fails one of the two runs), and the same
  * cause just short of it (`near`, 1.5 % the other side; NULL for the
  * over-current pulse) runs on without a fault. */
-static void check_fault(const char *name, const char *inject, const char *near, const char *clear,
-                        double off_within_s)
+static void check_fault(int mm, const char *name, const char *inject, const char *near,
+                        const char *clear, double off_within_s, double restart_tol)
 {
     /* An ack while the cause lasts (0.9 s) and starts before the ack
      * (1.0, 1.3 s) are refused; the ack after the cause (1.4 s) clears. */
@@ -243,7 +442,7 @@ static void check_fault(const char *name, const char *inject, const char *near, 
                  inject, clear);
     }
     run_t r;
-    run_default(text, &r);
+    run_default(text, mm, &r);
     const double t_trip = run_first_fault(&r, 0.6, name);
     const size_t k = run_index_at(&r, t_trip);
     double t_off = -1.0;
@@ -257,15 +456,16 @@ static void check_fault(const char *name, const char *inject, const char *near, 
     const char *at_139 = r.rows[run_index_at(&r, 1.39)].state;
     const double t_restart = run_first_state(&r, 1.5, "RUN");
     const double speed = run_mean_speed(&r, 2.3, 2.4);
-    printf("%-14s (%s) trip %.2f ms after the cause, outputs off %.2f ms after; latched after "
-           "an early ack: %s; after the cause: %s; restarted: RUN at %.3f s, %.1f rpm\n",
-           name, inject, (t_trip - 0.6) * 1e3, (t_off - t_trip) * 1e3, at_099, at_139, t_restart,
-           speed);
+    printf("%-14s (%s)%s trip %.2f ms after the cause, outputs off %.2f ms after; latched after "
+           "an early ack: %s; after the cause: %s; restarted: RUN at %.3f s, %.2f rpm (limit "
+           "+-%.1f)\n",
+           name, inject, plant_name(mm), (t_trip - 0.6) * 1e3, (t_off - t_trip) * 1e3, at_099,
+           at_139, t_restart, speed, restart_tol);
     TK_CHECK(t_trip >= 0.6 && t_trip - 0.6 <= off_within_s, "%s: trip at %.4f s", name, t_trip);
     TK_CHECK(t_off >= 0.0 && t_off - 0.6 <= off_within_s, "%s: outputs off at %.4f s", name, t_off);
     TK_CHECK(strcmp(at_099, "FAULT") == 0, "%s: not latched at 0.99 s (%s)", name, at_099);
     TK_CHECK(strcmp(at_139, "FAULT") == 0, "%s: cleared without ack (%s)", name, at_139);
-    TK_CHECK(t_restart > 0.0 && fabs(speed - 1000.0) <= 20.0 && r.fault == 0,
+    TK_CHECK(t_restart > 0.0 && fabs(speed - 1000.0) <= restart_tol && r.fault == 0,
              "%s: no restart (RUN %.3f s, %.1f rpm, %s)", name, t_restart, speed,
              foc_fault_name(r.fault));
     run_free(&r);
@@ -273,19 +473,14 @@ static void check_fault(const char *name, const char *inject, const char *near, 
         return;
     }
     snprintf(text, sizeof text, "0 start\n0 speed 1000\n0.6 %s\n1.2 end\n", near);
-    run_default(text, &r);
+    run_default(text, mm, &r);
     const double speed_near = run_mean_speed(&r, 1.1, 1.2);
-    printf("%-14s (%s) just short of the threshold: final %s, fault %s, %.1f rpm\n", name, near,
-           foc_state_name(r.final_state), foc_fault_name(r.fault), speed_near);
+    printf("%-14s (%s)%s just short of the threshold: final %s, fault %s, %.1f rpm\n", name,
+           near, plant_name(mm), foc_state_name(r.final_state), foc_fault_name(r.fault),
+           speed_near);
     TK_CHECK(r.fault == 0 && r.final_state == FOC_STATE_RUN, "%s: %s tripped (%s, %s)", name, near,
              foc_state_name(r.final_state), foc_fault_name(r.fault));
     run_free(&r);
-}
-
-static void case_fault_overcurrent(void)
-{
-    /* The cause is a pulse; the latch holds until ack. */
-    check_fault("OVERCURRENT", "overcurrent", NULL, "temp 25", 1.0 / PWM_FREQUENCY_HZ);
 }
 
 /* "vdc <v>" or "temp <degC>" at `ratio` x `value` */
@@ -295,31 +490,53 @@ static const char *cause(char *buf, size_t len, const char *what, double value, 
     return buf;
 }
 
-static void case_fault_overvoltage(void)
+static void fault_overcurrent(int mm, double restart_tol)
 {
-    char above[32], below[32];
-    check_fault("OVERVOLTAGE", cause(above, sizeof above, "vdc", OVERVOLTAGE_V, 1.015),
-                cause(below, sizeof below, "vdc", OVERVOLTAGE_V, 0.985), "vdc 24", FOC_SLOW_TS_S);
+    /* The cause is a pulse; the latch holds until ack. */
+    check_fault(mm, "OVERCURRENT", "overcurrent", NULL, "temp 25", 1.0 / PWM_FREQUENCY_HZ,
+                restart_tol);
 }
 
-static void case_fault_undervoltage(void)
+static void fault_overvoltage(int mm, double restart_tol)
 {
     char above[32], below[32];
-    check_fault("UNDERVOLTAGE", cause(below, sizeof below, "vdc", UNDERVOLTAGE_V, 0.985),
-                cause(above, sizeof above, "vdc", UNDERVOLTAGE_V, 1.015), "vdc 24", FOC_SLOW_TS_S);
+    check_fault(mm, "OVERVOLTAGE", cause(above, sizeof above, "vdc", OVERVOLTAGE_V, 1.015),
+                cause(below, sizeof below, "vdc", OVERVOLTAGE_V, 0.985), "vdc 24", FOC_SLOW_TS_S,
+                restart_tol);
 }
 
-static void case_fault_overtemp(void)
+static void fault_undervoltage(int mm, double restart_tol)
 {
     char above[32], below[32];
-    check_fault("OVERTEMP", cause(above, sizeof above, "temp", OVERTEMP_DEGC, 1.015),
-                cause(below, sizeof below, "temp", OVERTEMP_DEGC, 0.985), "temp 25", FOC_SLOW_TS_S);
+    check_fault(mm, "UNDERVOLTAGE", cause(below, sizeof below, "vdc", UNDERVOLTAGE_V, 0.985),
+                cause(above, sizeof above, "vdc", UNDERVOLTAGE_V, 1.015), "vdc 24", FOC_SLOW_TS_S,
+                restart_tol);
 }
+
+static void fault_overtemp(int mm, double restart_tol)
+{
+    char above[32], below[32];
+    check_fault(mm, "OVERTEMP", cause(above, sizeof above, "temp", OVERTEMP_DEGC, 1.015),
+                cause(below, sizeof below, "temp", OVERTEMP_DEGC, 0.985), "temp 25", FOC_SLOW_TS_S,
+                restart_tol);
+}
+
+/* Measured: the restarted speed at most 0.21 rpm off 1000 rpm (0.40 on
+ * the mismatch; the limit was 20 rpm); the trip and the outputs off in
+ * the period (fast) or slow tick of the cause. */
+static void case_fault_overcurrent(void) { fault_overcurrent(0, 1.0); }
+static void case_fault_overcurrent_mismatch(void) { fault_overcurrent(1, 1.5); }
+static void case_fault_overvoltage(void) { fault_overvoltage(0, 1.0); }
+static void case_fault_overvoltage_mismatch(void) { fault_overvoltage(1, 1.5); }
+static void case_fault_undervoltage(void) { fault_undervoltage(0, 1.0); }
+static void case_fault_undervoltage_mismatch(void) { fault_undervoltage(1, 1.5); }
+static void case_fault_overtemp(void) { fault_overtemp(0, 1.0); }
+static void case_fault_overtemp_mismatch(void) { fault_overtemp(1, 1.5); }
 
 /* Stops from 2000 rpm: shorted windings and the brake resistor (on a
  * 470 uF bus) stop faster than coasting, current within the limit, bus
  * below the over-voltage threshold. */
-static double stop_time(const char *extra, int stop_mode, int resistor, double *peak_a,
+static double stop_time(int mm, const char *extra, int stop_mode, int resistor, double *peak_a,
                         double *vdc_max, uint16_t *fault)
 {
     char text[256];
@@ -329,7 +546,7 @@ static double stop_time(const char *extra, int stop_mode, int resistor, double *
     opt.stop_mode = stop_mode;
     opt.brake_resistor = resistor;
     run_t r;
-    run_scenario_with(text, &opt, &r);
+    run_opt(text, mm, &opt, &r);
     double t_stop = -1.0;
     *vdc_max = 0.0;
     for (size_t k = run_index_at(&r, 0.8); k < r.n; k++) {
@@ -344,41 +561,55 @@ static double stop_time(const char *extra, int stop_mode, int resistor, double *
     return t_stop;
 }
 
-static void case_braking(void)
+/* Limits: the shorted windings' and the resistor's stop times (both
+ * asked only to beat coasting), the bus's excursion above
+ * BRAKE_RESISTOR_ON_V with the resistor (asked only to stay below
+ * OVERVOLTAGE_V). */
+static void braking(int mm, double shorted_max, double resistor_max, double bus_over_on_max)
 {
     double peak[4], vmax[4];
     uint16_t fault[4];
-    const double coast = stop_time("", STOP_MODE_COAST, 0, &peak[0], &vmax[0], &fault[0]);
-    const double shorted = stop_time("", STOP_MODE_SHORT, 0, &peak[1], &vmax[1], &fault[1]);
+    const double coast = stop_time(mm, "", STOP_MODE_COAST, 0, &peak[0], &vmax[0], &fault[0]);
+    const double shorted = stop_time(mm, "", STOP_MODE_SHORT, 0, &peak[1], &vmax[1], &fault[1]);
     const char *bus = "0 plant buscap 470e-6\n0 plant brakeres 10\n";
-    const double resistor = stop_time(bus, STOP_MODE_RAMP, 1, &peak[2], &vmax[2], &fault[2]);
-    const double no_res = stop_time(bus, STOP_MODE_RAMP, 0, &peak[3], &vmax[3], &fault[3]);
-    printf("stop from 2000 rpm to < 20 rpm: coast %.3f s; shorted windings %.3f s (peak %.3f A); "
-           "resistor %.3f s (peak %.3f A, bus max %.2f V); same ramp without resistor: bus max "
-           "%.2f V, fault %s\n",
-           coast, shorted, peak[1], resistor, peak[2], vmax[2], vmax[3],
+    const double resistor = stop_time(mm, bus, STOP_MODE_RAMP, 1, &peak[2], &vmax[2], &fault[2]);
+    const double no_res = stop_time(mm, bus, STOP_MODE_RAMP, 0, &peak[3], &vmax[3], &fault[3]);
+    printf("stop from 2000 rpm to < 20 rpm%s: coast %.3f s; shorted windings %.3f s (limit %.3f, "
+           "peak %.3f A); resistor %.3f s (limit %.3f, peak %.3f A, bus max %.3f V, %.3f V above "
+           "ON, limit %.3f); same ramp without resistor: bus max %.2f V, fault %s\n",
+           plant_name(mm), coast, shorted, shorted_max, peak[1], resistor, resistor_max, peak[2],
+           vmax[2], vmax[2] - BRAKE_RESISTOR_ON_V, bus_over_on_max, vmax[3],
            foc_fault_name(fault[3]));
     (void)no_res;
     const double coast_s = coast < 0.0 ? 1e9 : coast; /* not stopped within 3.2 s */
     TK_CHECK(fault[0] == 0 && fault[1] == 0 && fault[2] == 0, "faults %s %s %s",
              foc_fault_name(fault[0]), foc_fault_name(fault[1]), foc_fault_name(fault[2]));
-    TK_CHECK(shorted > 0.0 && shorted < coast_s, "short %.3f s vs coast %.3f s", shorted, coast);
-    TK_CHECK(resistor > 0.0 && resistor < coast_s, "resistor %.3f s vs coast %.3f s", resistor,
-             coast);
+    TK_CHECK(shorted > 0.0 && shorted < coast_s && shorted <= shorted_max,
+             "short %.3f s vs coast %.3f s", shorted, coast);
+    TK_CHECK(resistor > 0.0 && resistor < coast_s && resistor <= resistor_max,
+             "resistor %.3f s vs coast %.3f s", resistor, coast);
     TK_CHECK(peak[1] <= LIMIT_A && peak[2] <= LIMIT_A, "peaks %.3f %.3f A", peak[1], peak[2]);
-    TK_CHECK(vmax[2] < OVERVOLTAGE_V, "bus %.2f V with the resistor", vmax[2]);
+    TK_CHECK(vmax[2] < OVERVOLTAGE_V && vmax[2] - BRAKE_RESISTOR_ON_V <= bus_over_on_max,
+             "bus %.3f V with the resistor", vmax[2]);
 }
 
+/* Measured: shorted 0.049 / 0.050 s, resistor 0.283 / 0.280 s (coasting
+ * 0.770 / 0.774 s), the bus 0.031 / 0.033 V above BRAKE_RESISTOR_ON_V (it
+ * was asked to stay below OVERVOLTAGE_V, 3 V above). */
+static void case_braking(void) { braking(0, 0.2, 1.0, 0.12); }
+static void case_braking_mismatch(void) { braking(1, 0.2, 1.0, 0.12); }
+
 /* FAULT_BRAKE: an over-voltage at 1000 rpm (below the short-circuit safe
- * speed) shorts the windings: the rotor stops far sooner than coasting,
- * current within the limit; at 3000 rpm (above it) the outputs go off. */
-static void case_fault_brake(void)
+ * speed) shorts the windings: the rotor stops far sooner than coasting
+ * (within `stop_max` s), current within the limit; at 3000 rpm (above
+ * it) the outputs go off. */
+static void fault_brake(int mm, double stop_max)
 {
     sim_options_t opt;
     sim_default_options(&opt);
     opt.fault_brake = 1;
     run_t r;
-    run_scenario_with("0 start\n0 speed 1000\n0.8 vdc 40\n1.6 end\n", &opt, &r);
+    run_opt("0 start\n0 speed 1000\n0.8 vdc 40\n1.6 end\n", mm, &opt, &r);
     const size_t k = run_index_at(&r, 0.8);
     double t_stop = -1.0;
     for (size_t j = k; j < r.n; j++) {
@@ -390,26 +621,39 @@ static void case_fault_brake(void)
     const double peak = run_max_phase_current(&r, 0.8, 1.6);
     const int shorted = r.rows[k].bridge == PMSM_BRIDGE_LOW_SIDES;
     const int off_later = r.rows[r.n - 1].bridge == PMSM_BRIDGE_OFF;
-    printf("fault brake at 1000 rpm: windings shorted %s, stopped (< 20 rpm) after %.3f s, peak "
-           "%.3f A, outputs off afterwards %s\n",
-           shorted ? "yes" : "NO", t_stop, peak, off_later ? "yes" : "NO");
+    printf("fault brake at 1000 rpm%s: windings shorted %s, stopped (< 20 rpm) after %.4f s "
+           "(limit %.3f), peak %.3f A, outputs off afterwards %s\n",
+           plant_name(mm), shorted ? "yes" : "NO", t_stop, stop_max, peak,
+           off_later ? "yes" : "NO");
     TK_CHECK(shorted && off_later, "shorted %d, off later %d", shorted, off_later);
-    TK_CHECK(t_stop > 0.0 && t_stop < 0.2, "stop after %.3f s", t_stop);
+    TK_CHECK(t_stop > 0.0 && t_stop < stop_max, "stop after %.3f s", t_stop);
     TK_CHECK(peak <= LIMIT_A, "peak %.3f A", peak);
     run_free(&r);
 
-    run_scenario_with("0 start\n0 speed 3000\n0.8 vdc 40\n1.0 end\n", &opt, &r);
+    run_opt("0 start\n0 speed 3000\n0.8 vdc 40\n1.0 end\n", mm, &opt, &r);
     const int fast_off = r.rows[run_index_at(&r, 0.8)].bridge == PMSM_BRIDGE_OFF;
-    printf("fault at 3000 rpm (above the safe speed): outputs off %s\n", fast_off ? "yes" : "NO");
+    printf("fault at 3000 rpm (above the safe speed)%s: outputs off %s\n", plant_name(mm),
+           fast_off ? "yes" : "NO");
     TK_CHECK(fast_off, "shorted above the safe speed");
     run_free(&r);
 }
 
-TK_CASES(TK_CASE(case_fault_brake), TK_CASE(case_startup_matrix), TK_CASE(case_startup_matrix_luenberger),
-         TK_CASE(case_startup_matrix_flux), TK_CASE(case_locked_rotor_fails_startup),
-         TK_CASE(case_field_weakening_max_speed), TK_CASE(case_unreachable_speed_settles),
-         TK_CASE(case_low_command_raised),
-         TK_CASE(case_stall_detected),
-         TK_CASE(case_no_false_trip), TK_CASE(case_fault_overcurrent),
-         TK_CASE(case_fault_overvoltage), TK_CASE(case_fault_undervoltage),
-         TK_CASE(case_fault_overtemp), TK_CASE(case_braking))
+/* Measured: stopped after 16.2 / 17.9 ms (the limit was 200 ms). */
+static void case_fault_brake(void) { fault_brake(0, 0.06); }
+static void case_fault_brake_mismatch(void) { fault_brake(1, 0.06); }
+
+TK_CASES(TK_CASE(case_fault_brake), TK_CASE(case_fault_brake_mismatch),
+         TK_CASE(case_startup_matrix), TK_CASE(case_startup_matrix_mismatch),
+         TK_CASE(case_startup_matrix_luenberger), TK_CASE(case_startup_matrix_luenberger_mismatch),
+         TK_CASE(case_startup_matrix_flux), TK_CASE(case_startup_matrix_flux_mismatch),
+         TK_CASE(case_locked_rotor_fails_startup), TK_CASE(case_locked_rotor_fails_startup_mismatch),
+         TK_CASE(case_field_weakening_max_speed), TK_CASE(case_field_weakening_max_speed_mismatch),
+         TK_CASE(case_unreachable_speed_settles), TK_CASE(case_unreachable_speed_settles_mismatch),
+         TK_CASE(case_low_command_raised), TK_CASE(case_low_command_raised_mismatch),
+         TK_CASE(case_stall_detected), TK_CASE(case_stall_detected_mismatch),
+         TK_CASE(case_no_false_trip), TK_CASE(case_no_false_trip_mismatch),
+         TK_CASE(case_fault_overcurrent), TK_CASE(case_fault_overcurrent_mismatch),
+         TK_CASE(case_fault_overvoltage), TK_CASE(case_fault_overvoltage_mismatch),
+         TK_CASE(case_fault_undervoltage), TK_CASE(case_fault_undervoltage_mismatch),
+         TK_CASE(case_fault_overtemp), TK_CASE(case_fault_overtemp_mismatch),
+         TK_CASE(case_braking), TK_CASE(case_braking_mismatch))
