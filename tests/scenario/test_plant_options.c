@@ -44,20 +44,31 @@ static void case_realistic_sets_the_set(void)
 }
 
 /* On the realistic plant the default estimator starts from standstill and
- * holds 1000 rpm without a fault: mean speed over 0.8-1.0 s within 2 rpm
- * (measured 0.4 rpm, seed 1). */
-static void case_realistic_runs(void)
+ * holds 1000 rpm without a fault: mean speed over 0.8-1.0 s within
+ * `tol` rpm; and on the realistic plant whose motor is also off the
+ * controller's parameters (scenario_run.h's mismatch: Rs +30 %, L -20 %,
+ * flux +10 %). */
+static void realistic_runs(int mm, double tol)
 {
+    char text[512];
     run_t r;
-    run_scenario("0 plant realistic\n0 start\n0 speed 1000\n1.0 end\n", FOC_ESTIMATOR, &r);
+    run_scenario(run_text(text, sizeof text, mm,
+                          "0 plant realistic\n0 start\n0 speed 1000\n1.0 end\n"),
+                 FOC_ESTIMATOR, &r);
     const double speed = run_mean_speed(&r, 0.8, 1.0);
-    printf("  realistic plant: RUN at %.3f s, final %s %s, mean speed %.1f rpm\n",
-           run_first_state(&r, 0.0, "RUN"), foc_state_name(r.final_state),
-           foc_fault_name(r.fault), speed);
+    printf("  realistic plant%s: RUN at %.3f s, final %s %s, mean speed %.2f rpm (limit +-%.1f)\n",
+           mm ? " with the mismatch" : "", run_first_state(&r, 0.0, "RUN"),
+           foc_state_name(r.final_state), foc_fault_name(r.fault), speed, tol);
     TK_CHECK(r.final_state == FOC_STATE_RUN && r.fault == 0, "final %s %s",
              foc_state_name(r.final_state), foc_fault_name(r.fault));
-    TK_CHECK(fabs(speed - 1000.0) < 2.0, "speed %.1f rpm", speed);
+    TK_CHECK(fabs(speed - 1000.0) < tol, "speed %.1f rpm", speed);
     run_free(&r);
 }
 
-TK_CASES(TK_CASE(case_realistic_sets_the_set), TK_CASE(case_realistic_runs))
+/* Measured: 0.40 rpm off (seed 1; 2 rpm kept: 5 x); 0.06 rpm on the
+ * mismatch. */
+static void case_realistic_runs(void) { realistic_runs(0, 2.0); }
+static void case_realistic_runs_mismatch(void) { realistic_runs(1, 0.3); }
+
+TK_CASES(TK_CASE(case_realistic_sets_the_set), TK_CASE(case_realistic_runs),
+         TK_CASE(case_realistic_runs_mismatch))
