@@ -4,7 +4,8 @@
 --trace CSV (true angle, true rotor-frame currents, true torque, true
 speed), never from what the firmware says about itself:
 
-  salient.py angle    EXE pll|luenberger|flux SCN   angle error RMS <= 3 deg
+  salient.py angle    EXE pll|luenberger|flux SCN   angle error RMS <= 0.6 deg
+                                                    (0.8 deg under load)
   salient.py mtpa     EXE SCN                       torque per ampere gain
   salient.py fw_range EXE SCN                       highest steady speed
 
@@ -18,12 +19,15 @@ import tempfile
 COLS = ("t_s state fault speed_ref_rpm speed_rpm speed_est_rpm theta_e_deg "
         "theta_est_deg id_a iq_a id_ref_a iq_ref_a vd_v vq_v vdc_v torque_nm "
         "ia_a ib_a ic_a").split()
-ANGLE_RMS_MAX_DEG = 3.0       # issue 12: salient motor, 20-100 % of rated speed
+# Issue 12 asked 3 deg RMS (salient motor, 20-100 % of rated speed); at
+# no load the three estimators measure 0.06-0.17 deg: 0.6 deg (3.5 x).
+ANGLE_RMS_MAX_DEG = 0.6
 # Under load (true torque above half the rated), every estimator's model
 # must be right for the salient rotor: on the mean of Ld and Lq the
 # Luenberger observer was 1.70 deg RMS off at the rated torque, on Lq (the
-# extended EMF) 0.18-0.25 deg, like the PLL and the flux estimator.
-ANGLE_RMS_LOADED_MAX_DEG = 1.0
+# extended EMF) 0.18-0.25 deg, like the PLL and the flux estimator (0.18-
+# 0.23 deg measured): 0.8 deg (3.5 x; was 1.0).
+ANGLE_RMS_LOADED_MAX_DEG = 0.8
 SPEED_TOL = 0.01              # a window counts at its speed within 1 %
 
 
