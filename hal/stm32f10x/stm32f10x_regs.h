@@ -8,9 +8,12 @@
  * include folders on the include path, with the density macro such as
  * STM32F10X_MD) to use ST's header instead of this one; for STM32Cube's
  * headers also define FOC_STM32_VENDOR_HEADER as "stm32f1xx.h" and the
- * device macro (STM32F103xB).  The core header must define DWT (CMSIS-Core
- * 2.0 or later).  Only what the port uses is here; the port uses nothing
- * that ST's header lacks.
+ * device macro (STM32F103xB).  Only what the port uses is here; the port
+ * uses nothing that ST's device header lacks.  CMSIS-Core 1.x (core_cm3.h
+ * V1.30 of ST's standard peripheral library 3.5.0) leaves two things to the
+ * application, supplied below: the DWT block (added in CMSIS-Core 2.0), and
+ * __get_PRIMASK/__set_PRIMASK, which it declares extern for GCC and defines
+ * in core_cm3.c, a file this project does not build.
  *
  * Register structures use ST's standard-peripheral layout (16-bit timer and
  * USART registers padded to 32 bits); the offsets are the same in ST's
@@ -24,6 +27,39 @@
 #define FOC_STM32_VENDOR_HEADER "stm32f10x.h"
 #endif
 #include FOC_STM32_VENDOR_HEADER
+
+/* CMSIS-Core 1.x: PRIMASK access as in CMSIS-Core 2.0 and later (inline),
+ * under the port's own names, the CMSIS names mapped to them (a static
+ * definition cannot follow core_cm3.h's extern declaration). */
+#if defined(__CM3_CMSIS_VERSION_MAIN) && (__CM3_CMSIS_VERSION_MAIN < 2)
+static inline uint32_t foc_stm32_get_primask(void)
+{
+    uint32_t r;
+    __asm volatile("mrs %0, primask" : "=r"(r));
+    return r;
+}
+
+static inline void foc_stm32_set_primask(uint32_t m)
+{
+    __asm volatile("msr primask, %0" : : "r"(m) : "memory");
+}
+
+#define __get_PRIMASK() foc_stm32_get_primask()
+#define __set_PRIMASK(m) foc_stm32_set_primask(m)
+#endif
+
+/* DWT cycle counter (ARMv7-M ARM C1.8), which CMSIS-Core 1.x lacks. */
+#ifndef DWT
+typedef struct {
+    __IO uint32_t CTRL;
+    __IO uint32_t CYCCNT;
+} foc_stm32_dwt_t;
+#define DWT ((foc_stm32_dwt_t *)0xE0001000u)
+#endif
+#ifndef DWT_CTRL_CYCCNTENA_Msk
+#define DWT_CTRL_CYCCNTENA_Msk (1ul << 0)
+#endif
+
 #else
 
 #include <stdint.h>
