@@ -68,9 +68,10 @@ typedef struct {
 #define __NVIC_PRIO_BITS 4u
 
 /* ------------------------------------------------------ interrupt numbers */
+/* (no HardFault_IRQn: the port does not use it and CMSIS 1.x device
+ * headers, ST's StdPeriph 3.5.0 among them, do not define it) */
 typedef enum {
     NonMaskableInt_IRQn = -14,
-    HardFault_IRQn = -13,
     SysTick_IRQn = -1,
     ADC1_2_IRQn = 18,
     TIM1_BRK_IRQn = 24,
@@ -235,8 +236,9 @@ typedef struct {
 #define RCC_APB2ENR_USART1EN      ((uint32_t)0x00004000)
 #define RCC_APB1ENR_TIM3EN        ((uint32_t)0x00000002)
 
-/* FLASH (the wait-state field is written as a number, see stm32_clock.c) */
-#define FLASH_ACR_LATENCY         ((uint8_t)0x03)
+/* FLASH (the wait-state field LATENCY[2:0] is written as a number, see
+ * stm32_clock.c; no mask for it here: RM0008's would be 0x7, ST's
+ * StdPeriph 3.5.0 header defines FLASH_ACR_LATENCY as 0x03) */
 #define FLASH_ACR_PRFTBE          ((uint8_t)0x10)
 
 /* AFIO */
