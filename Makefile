@@ -215,7 +215,22 @@ define STM32_NL
 
 endef
 
-.PHONY: stm32
+.PHONY: stm32 stm32-regs
+
+# make stm32-regs  the register-map test (tests/ports/test_stm32_regs.c, a
+#                  ctest too) built with the host compiler against the
+#                  headers STM32_CMSIS names (ST's, wherever the user keeps
+#                  them: checks that they hold the values the project's map
+#                  is tested for, docs/porting.md), else against
+#                  hal/stm32f10x/stm32f10x_regs.h; STM32_DEFS as for stm32
+STM32_REGS_OUT := build/stm32-regs
+stm32-regs:
+	@mkdir -p $(STM32_REGS_OUT)
+	$(CC) -std=c11 -Wall -Wextra -Werror -D$(word 3,$(STM32_PART_INFO)) \
+	    $(if $(STM32_CMSIS),-DFOC_STM32_VENDOR_CMSIS $(addprefix -isystem ,$(STM32_CMSIS))) \
+	    $(STM32_DEFS) -I$(STM32_HAL) -Itests/common tests/ports/test_stm32_regs.c \
+	    tests/common/testkit.c -o $(STM32_REGS_OUT)/test_stm32_regs
+	$(STM32_REGS_OUT)/test_stm32_regs
 
 # When building the image: memory.ld for the part, and a copy of the flags
 # that is rewritten (rebuilding everything) only when they change.

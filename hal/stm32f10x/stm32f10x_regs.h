@@ -15,6 +15,10 @@
  * __get_PRIMASK/__set_PRIMASK, which it declares extern for GCC and defines
  * in core_cm3.c, a file this project does not build.
  *
+ * tests/ports/test_stm32_regs.c checks every address, register offset and
+ * constant here against values written from RM0008; the same table can be
+ * run against ST's headers (docs/porting.md).
+ *
  * Register structures use ST's standard-peripheral layout (16-bit timer and
  * USART registers padded to 32 bits); the offsets are the same in ST's
  * STM32Cube headers, which declare them 32 bits wide.
