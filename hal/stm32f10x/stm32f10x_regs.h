@@ -32,26 +32,6 @@
 #endif
 #include FOC_STM32_VENDOR_HEADER
 
-/* CMSIS-Core 1.x: PRIMASK access as in CMSIS-Core 2.0 and later (inline),
- * under the port's own names, the CMSIS names mapped to them (a static
- * definition cannot follow core_cm3.h's extern declaration). */
-#if defined(__CM3_CMSIS_VERSION_MAIN) && (__CM3_CMSIS_VERSION_MAIN < 2)
-static inline uint32_t foc_stm32_get_primask(void)
-{
-    uint32_t r;
-    __asm volatile("mrs %0, primask" : "=r"(r));
-    return r;
-}
-
-static inline void foc_stm32_set_primask(uint32_t m)
-{
-    __asm volatile("msr primask, %0" : : "r"(m) : "memory");
-}
-
-#define __get_PRIMASK() foc_stm32_get_primask()
-#define __set_PRIMASK(m) foc_stm32_set_primask(m)
-#endif
-
 /* DWT cycle counter (ARMv7-M ARM C1.8), which CMSIS-Core 1.x lacks. */
 #ifndef DWT
 typedef struct {
@@ -384,7 +364,8 @@ typedef struct {
 #define CoreDebug_DEMCR_TRCENA_Msk (1ul << 24)
 #define DWT_CTRL_CYCCNTENA_Msk     (1ul << 0)
 
-/* CMSIS-Core functions the port uses, same names and behaviour. */
+/* CMSIS-Core functions the port uses, same names and behaviour (PRIMASK:
+ * below). */
 static inline void NVIC_EnableIRQ(IRQn_Type irq)
 {
     NVIC->ISER[(uint32_t)irq >> 5] = (uint32_t)1u << ((uint32_t)irq & 0x1Fu);
@@ -410,17 +391,27 @@ static inline void __enable_irq(void)
     __asm volatile("cpsie i" ::: "memory");
 }
 
-static inline uint32_t __get_PRIMASK(void)
+#endif /* FOC_STM32_VENDOR_CMSIS */
+
+/* __get_PRIMASK/__set_PRIMASK, inline as in CMSIS-Core 2.0 and later: for
+ * the port's own map, and with CMSIS-Core 1.x, whose core_cm3.h declares
+ * them extern (so a static definition of those names cannot follow; the
+ * names are macros over the port's functions in both cases). */
+#if !defined(FOC_STM32_VENDOR_CMSIS) || \
+    (defined(__CM3_CMSIS_VERSION_MAIN) && (__CM3_CMSIS_VERSION_MAIN < 2))
+static inline uint32_t foc_stm32_get_primask(void)
 {
     uint32_t r;
     __asm volatile("mrs %0, primask" : "=r"(r));
     return r;
 }
 
-static inline void __set_PRIMASK(uint32_t m)
+static inline void foc_stm32_set_primask(uint32_t m)
 {
     __asm volatile("msr primask, %0" : : "r"(m) : "memory");
 }
 
-#endif /* FOC_STM32_VENDOR_CMSIS */
+#define __get_PRIMASK() foc_stm32_get_primask()
+#define __set_PRIMASK(m) foc_stm32_set_primask(m)
+#endif
 #endif /* STM32F10X_REGS_H */
