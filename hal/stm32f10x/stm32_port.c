@@ -374,7 +374,7 @@ static uint8_t next_update_at_bottom(void)
             return 2u;
         }
     }
-    const uint16_t cnt = TIM1->CNT;
+    const uint32_t cnt = TIM1->CNT; /* 32 bits wide in STM32Cube's headers */
     const uint8_t bottom = (uint8_t)((TIM1->CR1 & TIM_CR1_DIR) == 0u && cnt < PWM_PERIOD / 2u);
     /* with STM32_UPDATE_AT_TOP the wanted end of the count is the top */
     return (uint8_t)(STM32_UPDATE_AT_TOP ? !bottom : bottom);
