@@ -122,20 +122,27 @@ static inline int32_t foc_pi_ki_term(const foc_pi_gains_t *g, q15_t e)
     return foc_mul_q30_shift(g->ki, e, g->ki_shift);
 }
 
-/* The rest of an execution once the limits are known: y = u clamped, and
- * I += Ki e + Kc (y - u), then I kept within the output range.  y - u is
+/* The rest of an execution once the limits are known, given the integral
+ * step ki_e (Q30, |ki_e| <= 2^30: Ki e, or less): y = u clamped, and
+ * I += ki_e + Kc (y - u), then I kept within the output range.  y - u is
  * saturated to Q15: the back-calculation only needs its sign and size up
  * to full scale; it is 0 unless the output is limited. */
-static inline q15_t foc_pi_finish(foc_pi_q15_t *pi, const foc_pi_gains_t *g, q15_t e, int32_t u)
+static inline q15_t foc_pi_finish_ki(foc_pi_q15_t *pi, const foc_pi_gains_t *g, int32_t ki_e, int32_t u)
 {
     const q15_t y = foc_pi_clamp_out(pi, u);
-    pi->integ += foc_pi_ki_term(g, e); /* |I| <= 2^30: no overflow */
+    pi->integ += ki_e; /* |I| <= 2^30: no overflow */
     if (y != u) {
         const q15_t excess = foc_sat_q15((int32_t)y - u);
         pi->integ = foc_add_q31(pi->integ, (int32_t)g->kc * (int32_t)excess);
     }
     foc_pi_clamp_integ(pi);
     return y;
+}
+
+/* The same with I += Ki e. */
+static inline q15_t foc_pi_finish(foc_pi_q15_t *pi, const foc_pi_gains_t *g, q15_t e, int32_t u)
+{
+    return foc_pi_finish_ki(pi, g, foc_pi_ki_term(g, e), u);
 }
 
 /* One execution with error e = reference - feedback; returns the output.
