@@ -238,6 +238,16 @@ FOC_PARAM_POSITIVE(UNDERVOLTAGE_V, 4000.0);
 #define FOC_SPEED_KI_MANT FOC_GAIN_MANT(FOC_SPEED_KI_PU)
 #define FOC_SPEED_KI_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_SPEED_KI_PU))
 #define FOC_SPEED_KC Q15(FOC_SPEED_KI_PU / FOC_SPEED_KP_PU)
+/* The speed loop hunting (speed_ctrl.c): its q current from beyond half
+ * the limit one way to beyond half the other way is a swing.  Swings are
+ * counted leakily, FOC_SPEED_HUNT_SWING_TICKS up each, 1 down each slow
+ * tick; at FOC_SPEED_HUNT_TRIP_TICKS the loop's gains are halved, at most
+ * FOC_SPEED_HUNT_SHIFT_MAX times in a run.  Swings more often than one per
+ * 20 ms are needed to get there: at one per 4.4 ms (seed 1275) the fourth
+ * does it, and fewer than four never do. */
+#define FOC_SPEED_HUNT_SWING_TICKS FOC_TICKS(0.02)
+#define FOC_SPEED_HUNT_TRIP_TICKS (3u * FOC_SPEED_HUNT_SWING_TICKS)
+#define FOC_SPEED_HUNT_SHIFT_MAX 2u
 /* Reference slew per slow tick in Q15.15 (speed x 32768), so slow ramps
  * keep their rate exactly. */
 #define FOC_SPEED_RAMP_STEP_PU (SPEED_RAMP_RPM_PER_S * FOC_SLOW_TS_S / SPEED_BASE_RPM)
@@ -935,6 +945,8 @@ FOC_STATIC_ASSERT(FOC_SPEED_KI_PU < 32768.0,
 FOC_STATIC_ASSERT(FOC_SPEED_KI_PU / FOC_SPEED_KP_PU < 1.0,
                   "SPEED_KI_A_PER_RPM_S / SPEED_KP_A_PER_RPM too high for the "
                   "anti-windup gain");
+FOC_STATIC_ASSERT(FOC_SPEED_HUNT_TRIP_TICKS + FOC_SPEED_HUNT_SWING_TICKS <= 255u,
+                  "CONTROL_SLOW_DIVIDER too small for the speed loop's hunting count");
 FOC_STATIC_ASSERT(FOC_SPEED_RAMP_STEP15 >= 1 && FOC_TUNING_RAMP_STEP15 >= 1,
                   "SPEED_RAMP_RPM_PER_S / TUNING_RAMP_RPM_PER_S too small");
 FOC_STATIC_ASSERT(FOC_SPEED_RAMP_STEP_PU < 0.5,

@@ -544,6 +544,55 @@ static void case_current_circle(void)
     }
 }
 
+/* The speed loop hunting: its output held beyond half the limit on its
+ * last side (the measured speed off the reference), then from side to
+ * side `swings` times, each side held `hold` slow ticks; returns the gain
+ * shift left. */
+static uint8_t hunt_run(foc_speed_ctrl_t *sc, int swings, int hold)
+{
+    const q15_t ref = FOC_SPEED_Q15(0.5 * MOTOR_MAX_SPEED_RPM);
+    const q15_t dw = FOC_SPEED_Q15(0.5 * MOTOR_MAX_SPEED_RPM);
+    int side = (sc->hunt_side < 0) ? -1 : 1;
+    for (int k = 0; k <= swings; k++) {
+        for (int t = 0; t < hold; t++) {
+            (void)foc_sc_step(sc, (q15_t)(ref - side * dw), 0);
+        }
+        side = -side;
+    }
+    return sc->gain_shift;
+}
+
+/* Four swings, each within FOC_SPEED_HUNT_SWING_TICKS of the last, halve
+ * the loop's gains; three do not, nor any number spaced wider; a quarter
+ * at most; the next run starts with the design's gains. */
+static void case_speed_loop_hunting(void)
+{
+    const q15_t ref = FOC_SPEED_Q15(0.5 * MOTOR_MAX_SPEED_RPM);
+    const int fast = FOC_SPEED_HUNT_SWING_TICKS / 4;
+    foc_speed_ctrl_t sc;
+    foc_sc_init(&sc);
+    sc.target = ref;
+    foc_sc_preset(&sc, ref, 0);
+    TK_CHECK(hunt_run(&sc, 3, fast) == 0u, "three swings: %u", sc.gain_shift);
+    (void)hunt_run(&sc, 0, 2 * FOC_SPEED_HUNT_TRIP_TICKS); /* quiet: the count leaks away */
+    TK_CHECK(hunt_run(&sc, 40, FOC_SPEED_HUNT_SWING_TICKS + 1) == 0u, "40 slow swings: %u",
+             sc.gain_shift);
+    TK_CHECK(hunt_run(&sc, 4, fast) == 1u, "four fast swings: %u", sc.gain_shift);
+    TK_CHECK(hunt_run(&sc, 100, fast) == FOC_SPEED_HUNT_SHIFT_MAX, "many: %u", sc.gain_shift);
+    /* the proportional step halved with each shift (the integrator at 0) */
+    const q15_t e = FOC_SPEED_Q15(0.01 * MOTOR_MAX_SPEED_RPM);
+    q15_t y[3];
+    for (uint8_t shift = 0; shift <= 2u; shift++) {
+        foc_sc_preset(&sc, ref, 0);
+        sc.gain_shift = shift;
+        y[shift] = foc_sc_step(&sc, (q15_t)(ref - e), 0);
+    }
+    TK_CHECK(y[0] > 8 && abs(2 * y[1] - y[0]) <= 2 && abs(4 * y[2] - y[0]) <= 4,
+             "Kp e: %d, %d, %d", y[0], y[1], y[2]);
+    foc_sc_preset(&sc, ref, 0);
+    TK_CHECK(sc.gain_shift == 0u && sc.hunt_count == 0u && sc.hunt_side == 0, "preset: design gains");
+}
+
 /* Offsets: the mean of 1024 bridge-off samples; then any two valid phases
  * give the same alpha/beta as all three; fewer than two keep the previous
  * value. */
@@ -668,6 +717,6 @@ TK_CASES(TK_CASE(case_deadtime_error), TK_CASE(case_current_sense), TK_CASE(case
          TK_CASE(case_fw_voltage_mode), TK_CASE(case_protection_thresholds),
          TK_CASE(case_protection_brake_resistor), TK_CASE(case_startup_sequence),
          TK_CASE(case_bus_compensation), TK_CASE(case_voltage_circle),
-         TK_CASE(case_current_circle), TK_CASE(case_forced_q_holds_band),
+         TK_CASE(case_current_circle), TK_CASE(case_speed_loop_hunting), TK_CASE(case_forced_q_holds_band),
          TK_CASE(case_emf_feedforward), TK_CASE(case_follow_check),
          TK_CASE(case_current_two_dof))
