@@ -84,8 +84,9 @@ void foc_luen_reset(foc_luenberger_t *l, uint16_t theta, q15_t speed, foc_ab_t i
     l->emf_speed = speed;
     l->forward = (uint8_t)(speed >= 0);
     l->inv_amp = INV_ONE;
+    const int32_t amp = emf_amplitude(e_ab);
     for (unsigned k = 0; k < 16u; k++) {
-        track_inverse(l, emf_amplitude(e_ab));
+        track_inverse(l, (amp > FOC_LUEN_PLL_FULL_AMP) ? amp : FOC_LUEN_PLL_FULL_AMP);
     }
     /* theta32 is the angle at the next sample (as after every step). */
     l->theta32 = ((uint32_t)theta << 16) + (uint32_t)((int32_t)speed * FOC_THETA32_PER_SPEED);
@@ -137,6 +138,17 @@ void foc_luen_set_winding(foc_luenberger_t *l, q15_t rs_ratio_q14, q15_t ls_rati
     l->c5 = over_ratio(FOC_LUEN_C5, r);
 }
 
+/* x g / 2^15 for |x| < 2^30 and g Q15 in 0..32767, within 1 of the exact
+ * product: x split at bit 15 (hi in -2^15..2^15-1, lo in 0..32767), each
+ * partial product < 2^30.  Keeps the PLL integrator's input at low speed,
+ * where Ki x phase error is a few units of Q15 and g a few percent. */
+static int32_t times_q15(int32_t x, q15_t g)
+{
+    const int32_t hi = x >> 15;
+    const int32_t lo = x - hi * 32768;
+    return hi * (int32_t)g + ((lo * (int32_t)g) >> 15);
+}
+
 /* e += h J e: rotation by h = w T (Q16 rad), forward Euler as ST. */
 static void rotate_emf(foc_luen_ab32_t *e, q15_t speed)
 {
@@ -159,7 +171,14 @@ void foc_luen_step(foc_luenberger_t *l, foc_ab_t v_last, foc_ab_t i_now)
      * flux: the feed-forward.  -e_d / |e|, sign-corrected for the
      * direction, is sin(angle error): the PI's input. */
     const foc_ab_t e = foc_luen_emf(l);
-    track_inverse(l, emf_amplitude(e));
+    /* The phase detector is divided by max(|e|, FOC_LUEN_PLL_FULL_AMP):
+     * sin(angle error) times g = min(1, |e| / FOC_LUEN_PLL_FULL_AMP), the
+     * PLL's gain scaled with the speed below maximum (g: Q15, 0..32767;
+     * amp <= 45056, inv_amp <= 32767, product < 2^31). */
+    const int32_t amp = emf_amplitude(e);
+    track_inverse(l, (amp > FOC_LUEN_PLL_FULL_AMP) ? amp : FOC_LUEN_PLL_FULL_AMP);
+    const int32_t g_full = (amp * l->inv_amp) >> INV_Q;
+    const q15_t g = (q15_t)((g_full > 32767) ? 32767 : g_full);
     l->theta = (uint16_t)(l->theta32 >> 16);
     const uint16_t theta_mid =
         (uint16_t)(l->theta - (uint16_t)foc_mul_q15(l->omega, FOC_HALF_PERIOD_ANGLE));
@@ -177,9 +196,11 @@ void foc_luen_step(foc_luenberger_t *l, foc_ab_t v_last, foc_ab_t i_now)
         foc_mul_q15(foc_sat_q15((l->forward != 0u) ? -ed_norm : ed_norm), sure);
     /* PI: Ki e in Q30 added to the Q30 integrator, which holds the flux
      * error only: bounded to half the EMF speed plus the floor, so the PLL
-     * cannot claim a speed its EMF does not show. */
+     * cannot claim a speed its EMF does not show.  Ki acts on g x the
+     * phase detector's output (Ki g^2 overall, Kp g): natural frequency
+     * proportional to the speed below maximum, damping constant. */
     const int32_t i_max = ((int32_t)foc_abs_q15(l->emf_speed) / 2 + AMP_MIN) * 32768;
-    l->integ = clamp32(l->integ + (int32_t)FOC_LUEN_PLL_KI * (int32_t)phase_err, i_max);
+    l->integ = clamp32(l->integ + times_q15(FOC_LUEN_PLL_KI * (int32_t)phase_err, g), i_max);
     const q15_t prop = foc_mul_q15_shift(phase_err, FOC_LUEN_PLL_KP_MANT, FOC_LUEN_PLL_KP_SHIFT);
     l->omega = foc_sat_q15((int32_t)l->emf_speed + prop + (l->integ >> 15));
 

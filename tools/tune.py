@@ -47,7 +47,10 @@ Formulas (SI units; p pole pairs, psi flux linkage, fs PWM frequency):
   Luenberger PLL       ST's Kp = 532 fe/fs, Ki = 1506742 fe/fs^2 (fe the
                        maximum electrical rpm; template expressions): with
                        the phase detector normalised, natural frequency
-                       sqrt(72.2 fe) rad/s, damping 0.006 sqrt(fe)
+                       sqrt(72.2 fe) rad/s, damping 0.006 sqrt(fe) at the
+                       maximum speed; below it the natural frequency
+                       falls in proportion to the speed at that damping
+                       (luenberger.h)
   PLL (AN1292)         the angle loop's gain is |w| itself (eq. 2), so its
                        bandwidth follows the speed; back-EMF filter 0.2 ms
                        (AN1292), shorter where the top speed would leave

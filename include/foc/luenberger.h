@@ -33,9 +33,10 @@
  * PLL (ST's: the angle without atan).  With the rotor angle ahead of the
  * PLL's by d, e^ projected on the PLL's axes (half a period back, where
  * e^ belongs) is e_d = -|e| sgn(w) sin d, e_q = |e| sgn(w) cos d, so
- *   w^ = e_q + Kp s + Ki sum(s),   s = c sin d,   sin d = -sgn(w) e_d / |e|
- * with c = min(1, |w^ filtered| / (1/64 of the speed base)) (below)
- * and the angle integrates w^.  Kp and Ki are ST's.  The speed output is
+ *   w^ = e_q + Kp g s + Ki sum(g^2 s),   s = c sin d,   sin d = -sgn(w) e_d / |e|
+ * with c = min(1, |w^ filtered| / (1/64 of the speed base)) and
+ * g = min(1, |e| / e_max), e_max the EMF at maximum speed (below), and
+ * the angle integrates w^.  Kp and Ki are ST's.  The speed output is
  * w^ through a first-order filter (LUENBERGER_SPEED_FILTER_TIME_S).
  *
  * Differences from ST, and why:
@@ -48,13 +49,28 @@
  *   (1 - exp(-Rs T/Ls))/Rs, rather than forward Euler: Euler's error acts
  *   like Rs (i(k) - i(k-1))/2, a voltage 90 degrees from the current that
  *   turns the estimated EMF by up to 0.4 degrees under load;
- * - the phase detector is divided by |e^| (1/|e^| tracked by one Newton
- *   step per period, no division), so the PLL keeps the dynamics ST's Kp
- *   and Ki give at maximum speed at every speed above 1/64 of the speed
- *   base.  In ST's loop the gain is proportional to |e|: natural frequency
- *   and damping fall as sqrt(speed) (600 rad/s and 0.42 at 1000 rpm on the
- *   Hurst075), no faster than our 600 rad/s speed loop, and the two
- *   oscillated together below 2000 rpm;
+ * - the phase detector is divided by max(|e^|, e_max) (the inverse
+ *   tracked by one Newton step per period, no division; e_max =
+ *   FOC_LUEN_PLL_FULL_AMP, the EMF at LUENBERGER_PLL_FULL_SPEED_RPM,
+ *   default the maximum speed, where ST's Kp and Ki are designed), and
+ *   the integrator's input is multiplied by g once more: Kp acts as
+ *   Kp g, Ki as Ki g^2, so the PLL's natural frequency follows the
+ *   speed (a fixed fraction of the electrical frequency: 0.61 on the
+ *   Hurst075) at ST's maximum-speed damping (0.79) at every speed.  In
+ *   ST's loop the gain is proportional to |e| in both terms: natural
+ *   frequency and damping fall as sqrt(speed) (600 rad/s and 0.42 at
+ *   1000 rpm on the Hurst075), no faster than our 600 rad/s speed loop,
+ *   and the two oscillated together below 2000 rpm.  Divided by |e^|
+ *   alone (ST's maximum-speed dynamics, 1124 rad/s, at every speed, as
+ *   this observer had before issue 13), an error in the EMF's angle
+ *   reaches w^, relative to the speed, with the gain Kp / |e|: 6.8 per
+ *   radian at 500 rpm on the Hurst075, against 0.97 in ST's loop and 1 in
+ *   the AN1292 PLL's.  The dead time's voltage error near zero
+ *   current, which no bridge model resolves from a 10-bit sample, made
+ *   w^ swing by +-300 rpm at 500 rpm on the switched bridge and the
+ *   speed loop drive iq through zero into more of it (a limit cycle near
+ *   3 f_e; docs/estimators.md, "The Luenberger observer on the switched
+ *   bridge");
  * - the speed has e_q as a feed-forward (the EMF base makes it the speed
  *   at nominal flux), so the PI only turns the angle and its integrator
  *   holds the flux error.  Without it the speed lagged the rotor by the
@@ -114,7 +130,8 @@ typedef struct {
                            /* |.| <= (|emf_speed|/2 + 512) x 2^15 */
     q15_t emf_speed;       /* e_q: speed at nominal flux, Q15 */
     uint8_t forward;       /* direction of rotation, 1 = positive */
-    int32_t inv_amp;       /* 1/|e^|, Q9 of 1/(EMF base), 1..32767 */
+    int32_t inv_amp;       /* 1/max(|e^|, FOC_LUEN_PLL_FULL_AMP), Q9 of */
+                           /* 1/(EMF base), 1..32767 */
     uint32_t theta32;      /* PLL angle at the next sample */
     uint16_t theta;        /* output: angle at the last sample */
     q15_t omega;           /* PLL speed (unfiltered), Q15 */
