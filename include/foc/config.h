@@ -389,12 +389,20 @@ FOC_PARAM_POSITIVE(UNDERVOLTAGE_V, 4000.0);
 #define FOC_LUEN_RATIO_MIN ((q15_t)(16384.0 / FOC_LUEN_INV_R_MAX_D + 1.0))
 #define FOC_LUEN_RATIO_MAX ((q15_t)(FOC_LUEN_R_MAX_D >= 2.0 ? 32767.0 : 16384.0 * FOC_LUEN_R_MAX_D))
 /* The alignment's Rs ratio moves C1 and C2's share with Rs T/Ls: their
- * ratio x = rs / r (Q14) is held within [1/4, FOC_LUEN_INV_R_MAX_D] (Rs
- * at half and Ls at twice the parameters' down to 1/4; the same ceiling
- * as 1/r, so C1 and C2 keep their formats). */
+ * ratio x = rs / r (Q14 in an int32_t) is held within [1/4,
+ * FOC_LUEN_X_MAX_D] (Rs at half and Ls at twice the parameters' down to
+ * 1/4; up to 4, Rs at twice and Ls at half the parameters' (the largest
+ * the two ratios' formats give), where C1 stays below 32767 and C2 at most
+ * -16).  The ceiling was 1/r's, 2: a winding measured at Rs +60 % and
+ * Ls -49 % (x = 3.1, torture fan_highj seed 791) kept 0.68 ohm out of the
+ * model, whose drop looked like a back-EMF turning with the forced
+ * current; a held rotor then passed the start-up's convergence test. */
 #define FOC_LUEN_X_RATIO_MIN_D 0.25
 #define FOC_LUEN_X_RATIO_MIN ((q15_t)(16384.0 * FOC_LUEN_X_RATIO_MIN_D))
-#define FOC_LUEN_X_RATIO_MAX ((q15_t)FOC_LUEN_MIN_D(32767.0, 16384.0 * FOC_LUEN_INV_R_MAX_D))
+#define FOC_LUEN_X_MAX_D                                                       \
+    FOC_LUEN_MIN_D(4.0, FOC_LUEN_MIN_D(32767.0 / FOC_LUEN_C1_D,                \
+                                       1.0 + (-16.0 - FOC_LUEN_C2_D) / FOC_LUEN_C2X_D))
+#define FOC_LUEN_X_RATIO_MAX ((int32_t)(16384.0 * FOC_LUEN_X_MAX_D))
 /* The current update's sum of |constants| (below 2^16) with C1 and C2
  * at the ratio x and C3, C5 at the largest 1/r. */
 #define FOC_LUEN_SUM_AT_X_D(x)                                                 \
@@ -464,7 +472,7 @@ FOC_STATIC_ASSERT(1.5 * LUENBERGER_F2 + FOC_LUEN_C4_D < 65535.0,
 FOC_STATIC_ASSERT(FOC_LUEN_INV_R_MAX_D >= 1.0 && FOC_LUEN_R_MAX_D >= 1.0,
                   "the Luenberger observer's constants leave no room for the measured Ls");
 FOC_STATIC_ASSERT(FOC_LUEN_SUM_AT_X_D(FOC_LUEN_X_RATIO_MIN_D) < 65535.0 &&
-                  FOC_LUEN_SUM_AT_X_D(FOC_LUEN_INV_R_MAX_D) < 65535.0 &&
+                  FOC_LUEN_SUM_AT_X_D(FOC_LUEN_X_MAX_D) < 65535.0 &&
                   FOC_LUEN_C2_D - FOC_LUEN_C2X_D * (1.0 - FOC_LUEN_X_RATIO_MIN_D) > -32767.0,
                   "the Luenberger observer's constants leave no room for the measured Rs");
 FOC_STATIC_ASSERT(FOC_LUEN_C6_D < 32767.0,
