@@ -113,3 +113,33 @@ void est_detuned_plant(char *buf, size_t len)
     snprintf(buf, len, "0 plant rs %g\n0 plant ld %g\n0 plant lq %g\n0 plant flux %g",
              1.3 * MOTOR_RS_OHM, 0.8 * MOTOR_LD_H, 0.8 * MOTOR_LQ_H, 0.9 * FOC_FLUX_WB);
 }
+
+int est_luenberger_500rpm_switched(const char *motor, const est_switched_limits_t lim[3])
+{
+    static const char *const text[3] = {
+        "0 plant switched 1\n0 start\n0.1 speed 500\n1.5 end\n",
+        "0 plant realistic\n0 start\n0.1 speed 500\n1.5 end\n",
+        "0 plant realistic\n0 start\n0.1 speed 500\n0.6 load 0.05\n1.5 end\n",
+    };
+    int ok = 1;
+    for (size_t i = 0; i < 3u; i++) {
+        run_t r;
+        run_scenario(text[i], FOC_EST_LUENBERGER, &r);
+        run_est_errors_t e;
+        run_est_errors(&r, 0.9, 1.5, &e);
+        const size_t n = run_index_at(&r, 1.5) - run_index_at(&r, 0.9);
+        const double speed = run_mean_speed(&r, 0.9, 1.5);
+        const int pass = r.final_state == FOC_STATE_RUN && r.fault == 0 && e.n_run == n && n > 0 &&
+                         e.angle_rms_deg <= lim[i].rms_max_deg &&
+                         e.speed_err_rms_rpm <= lim[i].speed_err_max_rpm && fabs(speed - 500.0) < 10.0;
+        printf("  %s luenberger 500 rpm, run %zu: final %s %s, %zu of %zu rows in RUN, angle rms %.2f "
+               "(<= %.1f) peak %.2f deg, speed estimate error rms %.1f (<= %.0f) rpm, mean speed "
+               "%.1f rpm: %s\n",
+               motor, i, foc_state_name(r.final_state), foc_fault_name(r.fault), e.n_run, n,
+               e.angle_rms_deg, lim[i].rms_max_deg, e.angle_peak_deg, e.speed_err_rms_rpm,
+               lim[i].speed_err_max_rpm, speed, pass ? "ok" : "FAIL");
+        ok &= pass;
+        run_free(&r);
+    }
+    return ok;
+}

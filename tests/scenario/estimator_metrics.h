@@ -65,4 +65,19 @@ double est_lowest_speed(foc_est_kind_t kind, const double *speeds, int n,
                         double rms_max_deg, const char *plant, int realistic,
                         double *worst_rms_deg);
 
+/* The Luenberger observer's start to 500 rpm on the switched bridge,
+ * three runs: switched bridge alone (no ADC noise), `plant realistic`,
+ * and realistic with 0.05 Nm from 0.6 s.  Each must reach RUN without a
+ * fault and stay there, and over 0.9-1.5 s hold the mean true speed within
+ * 10 rpm of 500, the angle error RMS within rms_max_deg[i] and the speed
+ * estimate's error (estimated - true) RMS within speed_err_max_rpm[i].
+ * Prints a line per run; returns 1 if all three pass.  Before issue 13's
+ * PLL scaling all three tripped SPEED_FEEDBACK 40-150 ms after the
+ * hand-over (docs/estimators.md, "The Luenberger observer on the switched
+ * bridge"). */
+typedef struct {
+    double rms_max_deg, speed_err_max_rpm;
+} est_switched_limits_t;
+int est_luenberger_500rpm_switched(const char *motor, const est_switched_limits_t lim[3]);
+
 #endif /* ESTIMATOR_METRICS_H */

@@ -186,3 +186,25 @@ const char *run_text(char *buf, size_t len, int mismatch, const char *scenario)
     snprintf(buf, len, "%s%s", plant, scenario);
     return buf;
 }
+
+void run_est_errors(const run_t *r, double t0, double t1, run_est_errors_t *out)
+{
+    double sa = 0.0, ss = 0.0, peak = 0.0;
+    size_t n = 0;
+    for (size_t k = run_index_at(r, t0); k < r->n && r->rows[k].t_s < t1; k++) {
+        const sim_row_t *w = &r->rows[k];
+        if (strcmp(w->state, "RUN") != 0) {
+            continue;
+        }
+        const double a = remainder(w->theta_est_deg - w->theta_e_deg, 360.0);
+        const double e = w->speed_est_rpm - w->speed_rpm;
+        sa += a * a;
+        ss += e * e;
+        peak = fmax(peak, fabs(a));
+        n++;
+    }
+    out->n_run = n;
+    out->angle_rms_deg = n ? sqrt(sa / (double)n) : 0.0;
+    out->angle_peak_deg = peak;
+    out->speed_err_rms_rpm = n ? sqrt(ss / (double)n) : 0.0;
+}

@@ -62,6 +62,16 @@ double run_first_fault(const run_t *r, double t0, const char *fault);
 /* Mean true speed over [t0, t1), rpm (0 if no row). */
 double run_mean_speed(const run_t *r, double t0, double t1);
 
+/* Over the rows in [t0, t1): RMS and peak of the estimated minus the true
+ * electrical angle (deg) and RMS of the estimated minus the true speed
+ * (rpm), and the number of rows in RUN; the errors over those rows only
+ * (0 if none). */
+typedef struct {
+    size_t n_run;
+    double angle_rms_deg, angle_peak_deg, speed_err_rms_rpm;
+} run_est_errors_t;
+void run_est_errors(const run_t *r, double t0, double t1, run_est_errors_t *out);
+
 /* Largest true |phase current| in [t0, t1). */
 double run_max_phase_current(const run_t *r, double t0, double t1);
 
