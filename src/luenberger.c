@@ -173,12 +173,9 @@ void foc_luen_step(foc_luenberger_t *l, foc_ab_t v_last, foc_ab_t i_now)
     const foc_ab_t e = foc_luen_emf(l);
     /* The phase detector is divided by max(|e|, FOC_LUEN_PLL_FULL_AMP):
      * sin(angle error) times g = min(1, |e| / FOC_LUEN_PLL_FULL_AMP), the
-     * PLL's gain scaled with the speed below maximum (g: Q15, 0..32767;
-     * amp <= 45056, inv_amp <= 32767, product < 2^31). */
+     * PLL's gain scaled with the speed below maximum. */
     const int32_t amp = emf_amplitude(e);
     track_inverse(l, (amp > FOC_LUEN_PLL_FULL_AMP) ? amp : FOC_LUEN_PLL_FULL_AMP);
-    const int32_t g_full = (amp * l->inv_amp) >> INV_Q;
-    const q15_t g = (q15_t)((g_full > 32767) ? 32767 : g_full);
     l->theta = (uint16_t)(l->theta32 >> 16);
     const uint16_t theta_mid =
         (uint16_t)(l->theta - (uint16_t)foc_mul_q15(l->omega, FOC_HALF_PERIOD_ANGLE));
@@ -196,11 +193,18 @@ void foc_luen_step(foc_luenberger_t *l, foc_ab_t v_last, foc_ab_t i_now)
         foc_mul_q15(foc_sat_q15((l->forward != 0u) ? -ed_norm : ed_norm), sure);
     /* PI: Ki e in Q30 added to the Q30 integrator, which holds the flux
      * error only: bounded to half the EMF speed plus the floor, so the PLL
-     * cannot claim a speed its EMF does not show.  Ki acts on g x the
-     * phase detector's output (Ki g^2 overall, Kp g): natural frequency
-     * proportional to the speed below maximum, damping constant. */
+     * cannot claim a speed its EMF does not show.  Ki acts on the phase
+     * detector's output times g_w = min(1, |filtered speed| / the EMF at
+     * full speed) (Q15, 0..32767): Kp g and Ki g g_w, g_w = g in a lock at
+     * nominal flux, so the natural frequency is proportional to the speed
+     * below maximum at constant damping; where the PLL's speed runs ahead
+     * of its EMF (a held rotor's unmodelled resistance drop turning with
+     * the current) its integrator speeds up with it, to the bound, which
+     * the stall check's EMF test sees (luenberger.h). */
+    const q15_t g_w = foc_mul_q15_shift((q15_t)w_abs, FOC_LUEN_PLL_INV_FULL_MANT,
+                                        FOC_LUEN_PLL_INV_FULL_SHIFT);
     const int32_t i_max = ((int32_t)foc_abs_q15(l->emf_speed) / 2 + AMP_MIN) * 32768;
-    l->integ = clamp32(l->integ + times_q15(FOC_LUEN_PLL_KI * (int32_t)phase_err, g), i_max);
+    l->integ = clamp32(l->integ + times_q15(FOC_LUEN_PLL_KI * (int32_t)phase_err, g_w), i_max);
     const q15_t prop = foc_mul_q15_shift(phase_err, FOC_LUEN_PLL_KP_MANT, FOC_LUEN_PLL_KP_SHIFT);
     l->omega = foc_sat_q15((int32_t)l->emf_speed + prop + (l->integ >> 15));
 

@@ -427,15 +427,21 @@ FOC_PARAM_POSITIVE(UNDERVOLTAGE_V, 4000.0);
 #define FOC_LUEN_PLL_KI Q15(FOC_LUEN_PLL_KI_PU)
 /* ST's Kp and Ki are designed at maximum speed.  Below it the phase
  * detector is divided by the EMF at LUENBERGER_PLL_FULL_SPEED_RPM instead of
- * its own amplitude, and Ki acts on it times |e| over that EMF: Kp falls in
- * proportion to the speed, Ki to its square, so the PLL's natural frequency
- * follows the electrical frequency at constant damping (luenberger.h).
+ * its own amplitude, and Ki acts on it times the filtered speed over that
+ * EMF: Kp falls in proportion to the speed, Ki to its square, so the PLL's
+ * natural frequency follows the electrical frequency at constant damping
+ * (luenberger.h).
  * Q15 EMF amplitude (= speed at nominal flux), within AMP_MIN (1/64) and
  * 32767. */
 #ifndef LUENBERGER_PLL_FULL_SPEED_RPM
 #define LUENBERGER_PLL_FULL_SPEED_RPM MOTOR_MAX_SPEED_RPM
 #endif
 #define FOC_LUEN_PLL_FULL_AMP ((int32_t)FOC_SPEED_Q15(LUENBERGER_PLL_FULL_SPEED_RPM))
+/* 1 / that EMF as a gain (1..64: mantissa, shift) on the filtered speed:
+ * the integrator's g_w = min(1, |speed| / e_max), Q15 (luenberger.c). */
+#define FOC_LUEN_PLL_INV_FULL_PU (32768.0 / (double)FOC_LUEN_PLL_FULL_AMP)
+#define FOC_LUEN_PLL_INV_FULL_MANT FOC_GAIN_MANT(FOC_LUEN_PLL_INV_FULL_PU)
+#define FOC_LUEN_PLL_INV_FULL_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_LUEN_PLL_INV_FULL_PU))
 #define FOC_LUEN_SPEED_FILTER_K Q15(FOC_TS_S / (LUENBERGER_SPEED_FILTER_TIME_S + FOC_TS_S))
 
 FOC_STATIC_ASSERT(LUENBERGER_F1 >= 16 && LUENBERGER_F1 <= 16384 &&

@@ -33,10 +33,10 @@
  * PLL (ST's: the angle without atan).  With the rotor angle ahead of the
  * PLL's by d, e^ projected on the PLL's axes (half a period back, where
  * e^ belongs) is e_d = -|e| sgn(w) sin d, e_q = |e| sgn(w) cos d, so
- *   w^ = e_q + Kp g s + Ki sum(g^2 s),   s = c sin d,   sin d = -sgn(w) e_d / |e|
- * with c = min(1, |w^ filtered| / (1/64 of the speed base)) and
- * g = min(1, |e| / e_max), e_max the EMF at maximum speed (below), and
- * the angle integrates w^.  Kp and Ki are ST's.  The speed output is
+ *   w^ = e_q + Kp g s + Ki sum(g g_w s),   s = c sin d,   sin d = -sgn(w) e_d / |e|
+ * with c = min(1, |w^ filtered| / (1/64 of the speed base)),
+ * g = min(1, |e| / e_max) and g_w = min(1, |w^ filtered| / e_max), e_max
+ * the EMF at maximum speed (below), and the angle integrates w^.  Kp and Ki are ST's.  The speed output is
  * w^ through a first-order filter (LUENBERGER_SPEED_FILTER_TIME_S).
  *
  * Differences from ST, and why:
@@ -53,10 +53,16 @@
  *   tracked by one Newton step per period, no division; e_max =
  *   FOC_LUEN_PLL_FULL_AMP, the EMF at LUENBERGER_PLL_FULL_SPEED_RPM,
  *   default the maximum speed, where ST's Kp and Ki are designed), and
- *   the integrator's input is multiplied by g once more: Kp acts as
- *   Kp g, Ki as Ki g^2, so the PLL's natural frequency follows the
- *   speed (a fixed fraction of the electrical frequency: 0.61 on the
- *   Hurst075) at ST's maximum-speed damping (0.79) at every speed.  In
+ *   the integrator's input is multiplied by g_w, the filtered speed over
+ *   e_max: Kp acts as Kp g, Ki as Ki g g_w, and in a lock at nominal
+ *   flux g_w = g, so the PLL's natural frequency follows the speed (a
+ *   fixed fraction of the electrical frequency: 0.61 on the Hurst075) at
+ *   ST's maximum-speed damping (0.79) at every speed.  g_w rather than g
+ *   a second time: where the PLL runs ahead of its EMF (a held rotor
+ *   whose unmodelled resistance drop turns with the current, which the
+ *   PLL turns: regress/24) its integrator speeds up with it, to its
+ *   bound, where the stall check's EMF test trips (0.12 s; 0.29 s with
+ *   g^2, 0.175 s before the scaling).  In
  *   ST's loop the gain is proportional to |e| in both terms: natural
  *   frequency and damping fall as sqrt(speed) (600 rad/s and 0.42 at
  *   1000 rpm on the Hurst075), no faster than our 600 rad/s speed loop,
