@@ -2,7 +2,8 @@
  * focsim's `plant` options reach the motor model: `plant realistic` sets
  * exactly the documented realistic set (README.md, "Plant options"), and
  * the drive still starts and holds 1000 rpm on it; the Luenberger
- * observer's start to 500 rpm on the switched bridge.
+ * observer's start to 500 rpm on the switched bridge; a winding that warms
+ * up in a run.
  */
 #include <math.h>
 #include <stdio.h>
@@ -81,6 +82,54 @@ static void case_luenberger_500rpm_switched(void)
     TK_CHECK(est_luenberger_500rpm_switched("hurst075", lim), "see the lines above");
 }
 
+/* The winding warming up in a run: on the realistic plant at 500 and 1000
+ * rpm with 0.1 Nm (the Hurst075's rated torque, applied in four steps so
+ * that the light rotor is not stopped by the step), the model's Rs rises
+ * by 40 % in 4 % steps every 0.2 s from 2.0 s (the controller keeps the Rs
+ * it measured at the alignment).  The drive stays in RUN without a fault
+ * and the angle error stays within the issue's 3 deg RMS in each 0.5 s
+ * window from 2.5 s.  Measured (seed 1), largest window, deg: PLL 1.98
+ * (500 rpm), 1.91 (1000); Luenberger 2.01, 1.56; flux 2.09 at 1000 rpm.  Not held, so
+ * not asserted (docs/estimators.md, "Resistance drift"): the flux
+ * estimator at 500 rpm (a false SPEED_FEEDBACK at 3.2 s) and all three in field
+ * weakening (2000 rpm: 11-14 deg). */
+static void rs_drift(foc_est_kind_t kind, double speed_rpm)
+{
+    char text[1024];
+    int len = snprintf(text, sizeof text,
+                       "0 plant realistic\n0 start\n0.1 speed %g\n1.0 load 0.025\n1.1 load 0.05\n"
+                       "1.2 load 0.075\n1.3 load 0.1\n",
+                       speed_rpm);
+    for (int k = 1; k <= 10; k++) {
+        len += snprintf(text + len, sizeof text - (size_t)len, "%.1f plant rs %.9g\n",
+                        2.0 + 0.2 * k, MOTOR_RS_OHM * (1.0 + 0.04 * k));
+    }
+    snprintf(text + len, sizeof text - (size_t)len, "4.5 end\n");
+    run_t r;
+    run_scenario(text, kind, &r);
+    TK_CHECK(r.final_state == FOC_STATE_RUN && r.fault == 0, "%s %g rpm: final %s %s",
+             foc_est_name(kind), speed_rpm, foc_state_name(r.final_state), foc_fault_name(r.fault));
+    for (double t = 2.5; t < 4.4; t += 0.5) {
+        run_est_errors_t e;
+        run_est_errors(&r, t, t + 0.5, &e);
+        const size_t n = run_index_at(&r, t + 0.5) - run_index_at(&r, t);
+        printf("  %s %g rpm, Rs drift, %.1f-%.1f s: angle rms %.2f deg, %zu of %zu rows in RUN\n",
+               foc_est_name(kind), speed_rpm, t, t + 0.5, e.angle_rms_deg, e.n_run, n);
+        TK_CHECK(e.n_run == n && e.angle_rms_deg <= 3.0, "%s %g rpm %.1f s: angle rms %.2f deg",
+                 foc_est_name(kind), speed_rpm, t, e.angle_rms_deg);
+    }
+    run_free(&r);
+}
+
+static void case_rs_drift(void)
+{
+    rs_drift(FOC_EST_PLL, 500.0);
+    rs_drift(FOC_EST_PLL, 1000.0);
+    rs_drift(FOC_EST_LUENBERGER, 500.0);
+    rs_drift(FOC_EST_LUENBERGER, 1000.0);
+    rs_drift(FOC_EST_FLUX, 1000.0);
+}
+
 TK_CASES(TK_CASE(case_realistic_sets_the_set), TK_CASE(case_realistic_runs),
          TK_CASE(case_realistic_runs_mismatch),
-         TK_CASE(case_luenberger_500rpm_switched))
+         TK_CASE(case_luenberger_500rpm_switched), TK_CASE(case_rs_drift))
