@@ -108,6 +108,46 @@ double est_lowest_speed(foc_est_kind_t kind, const double *speeds, int n,
     return lowest;
 }
 
+#define WALK_HOLD_S 0.5
+
+double est_lowest_speed_walk(foc_est_kind_t kind, const double *speeds, int n,
+                             double rms_max_deg, const char *plant, int realistic)
+{
+    char text[1024];
+    int len = snprintf(text, sizeof text, "%s\n0 angle 77\n0 start\n", plant ? plant : "");
+    for (int i = 0; i < n; i++) {
+        len += snprintf(text + len, sizeof text - (size_t)len, "%g speed %g\n",
+                        0.1 + WALK_HOLD_S * i, speeds[i]);
+    }
+    snprintf(text + len, sizeof text - (size_t)len, "%g end\n", 0.1 + WALK_HOLD_S * n);
+    sim_options_t opt;
+    sim_default_options(&opt);
+    opt.estimator = kind;
+    opt.sensored_start = 1;
+    opt.ideal_inverter = !realistic;
+    opt.min_speed_rpm = 0;
+    run_t r;
+    run_scenario_with(text, &opt, &r);
+    double lowest = 0.0;
+    for (int i = 0; i < n; i++) {
+        const double t1 = 0.1 + WALK_HOLD_S * (i + 1);
+        run_est_errors_t e;
+        run_est_errors(&r, t1 - WINDOW_S, t1, &e);
+        const size_t rows = run_index_at(&r, t1) - run_index_at(&r, t1 - WINDOW_S);
+        const double speed = run_mean_speed(&r, t1 - WINDOW_S, t1);
+        const int ok = r.on_estimator && e.n_run == rows && rows > 0 &&
+                       e.angle_rms_deg <= rms_max_deg && fabs(speed - speeds[i]) <= 0.1 * speeds[i];
+        printf("  %6.1f rpm (held): angle rms %7.3f deg, speed %7.1f rpm %s\n", speeds[i],
+               e.angle_rms_deg, speed, ok ? "ok" : "out");
+        if (!ok) {
+            break;
+        }
+        lowest = speeds[i];
+    }
+    run_free(&r);
+    return lowest;
+}
+
 void est_detuned_plant(char *buf, size_t len)
 {
     snprintf(buf, len, "0 plant rs %g\n0 plant ld %g\n0 plant lq %g\n0 plant flux %g",

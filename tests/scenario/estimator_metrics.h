@@ -75,6 +75,14 @@ double est_lowest_speed(foc_est_kind_t kind, const double *speeds, int n,
  * PLL scaling all three tripped SPEED_FEEDBACK 40-150 ms after the
  * hand-over (docs/estimators.md, "The Luenberger observer on the switched
  * bridge"). */
+/* The same as est_lowest_speed, approached as a user would turn a knob
+ * down: one run, the sensored start to speeds[0], then each speed held
+ * for WALK_HOLD_S (0.5 s) in turn, judged over the last 0.2 s of its
+ * hold (RUN on the estimator, angle RMS, mean true speed within 10 %);
+ * the lowest before the first that fails. */
+double est_lowest_speed_walk(foc_est_kind_t kind, const double *speeds, int n,
+                             double rms_max_deg, const char *plant, int realistic);
+
 typedef struct {
     double rms_max_deg, speed_err_max_rpm;
 } est_switched_limits_t;
