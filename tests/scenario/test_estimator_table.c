@@ -188,6 +188,15 @@ static char *replace_line(char *doc, long offset, const char *line)
     return out;
 }
 
+/* The doc with the row that starts with `label` replaced by `line`. */
+static char *rewrite_row(char *doc, const char *label, const char *line)
+{
+    char old[512];
+    const long at = find_row(doc, label, old, sizeof old);
+    TK_CHECK(at >= 0, "no row '%s' in the doc", label);
+    return (at >= 0) ? replace_line(doc, at, line) : doc;
+}
+
 #endif /* FOC_ESTIMATORS_DOC */
 
 static est_result_t results[N_ROWS][3];
@@ -242,20 +251,10 @@ static void case_compare_estimators(void)
     const char *update = getenv("FOC_UPDATE_DOCS");
     if (update != NULL && strcmp(update, "1") == 0) {
         for (size_t i = 0; i < N_ROWS; i++) {
-            char old[512];
-            const long at = find_row(doc, rows[i].label, old, sizeof old);
-            TK_CHECK(at >= 0, "no row '%s' in the doc", rows[i].label);
-            if (at >= 0) {
-                doc = replace_line(doc, at, lines[i]);
-            }
+            doc = rewrite_row(doc, rows[i].label, lines[i]);
         }
         for (size_t j = 0; j < N_LOWEST; j++) {
-            char old[512];
-            const long at = find_row(doc, lowest_rows[j].label, old, sizeof old);
-            TK_CHECK(at >= 0, "no row '%s' in the doc", lowest_rows[j].label);
-            if (at >= 0) {
-                doc = replace_line(doc, at, lowest_line[j]);
-            }
+            doc = rewrite_row(doc, lowest_rows[j].label, lowest_line[j]);
         }
         FILE *f = fopen(FOC_ESTIMATORS_DOC, "wb");
         TK_CHECK(f != NULL && fputs(doc, f) >= 0 && fclose(f) == 0, "cannot write %s",
