@@ -2,7 +2,8 @@
 # need.selftest <work dir>: tests/common/need.sh with a tool (clang) hidden
 # from PATH skips the test (77) naming the package and logs it, under
 # CI=true fails it (1) and logs nothing; with the tool found it runs the
-# command and passes its status on; skip_summary.sh counts the log.
+# command and passes its status on (the command's own 77 as a failure);
+# skip_summary.sh counts the log.
 set -u
 common=$(dirname "$0")
 work=$1
@@ -27,6 +28,9 @@ case $out in *FAIL*"apt-get install clang"*) ;; *) fail "CI=true: $out" ;; esac
 PATH=$work/fake CI= FOC_SKIP_LOG=$log "$sh" "$common/need.sh" t.run clang -- "$sh" -c 'exit 3'
 st=$?
 [ "$st" = 3 ] || fail "clang found: exit $st, not the command's 3"
+PATH=$work/fake CI= FOC_SKIP_LOG=$log "$sh" "$common/need.sh" t.77 clang -- "$sh" -c 'exit 77'
+st=$?
+[ "$st" = 1 ] || fail "the command's own 77: exit $st, not 1"
 
 [ "$(cat "$log")" = "$(printf 't.skip\tclang')" ] || fail "skip log: $(cat "$log")"
 summary=$("$sh" "$common/skip_summary.sh" "$log")
