@@ -29,10 +29,12 @@ configure:
 build: configure
 	cmake --build $(BUILD) -j $(JOBS)
 
+CTEST := ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
 test: build
 	@rm -f $(BUILD)/skipped-tests.txt
-	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS); status=$$?; \
-	sh tests/common/skip_summary.sh $(BUILD)/skipped-tests.txt; exit $$status
+	@echo "$(CTEST)"
+	@$(CTEST); status=$$?; sh tests/common/skip_summary.sh $(BUILD)/skipped-tests.txt; \
+	exit $$status
 
 sim: configure
 	cmake --build $(BUILD) --target focsim -j $(JOBS)
