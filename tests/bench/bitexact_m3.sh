@@ -5,13 +5,10 @@
 # every estimator built in) on the instruction-set simulator must give, in
 # every period, the outputs of the recording (duties, bridge, state,
 # faults, angle, speed, references), and the same output hash as the host
-# replay.  Fails, never skips: without the cross compiler or the simulator's
-# Python modules it says what to install.
+# replay.  Registered through tests/common/need.sh (arm-none-eabi-gcc and
+# the simulator's Python modules).
 set -u
 src=$1 out=$2 frames=$3 parms=$4 replay=$5
-
-. "$src/tests/common/need_m3_sim.sh"
-need_m3_sim bench.bitexact_m3
 
 hash=$("$replay" "$frames" | sed -n 's/^hash=//p')
 if [ -z "$hash" ]; then
