@@ -6,6 +6,7 @@
 #define RX_BAD 2u    /* the frame is already broken: dropped at its end */
 
 #define TX_IDLE 0u
+#define TX_LEAD 4u   /* the leading zero next */
 #define TX_CODE 1u   /* a COBS code byte next */
 #define TX_DATA 2u   /* data bytes of the block next */
 #define TX_END 3u    /* the zero delimiter next */
@@ -110,7 +111,7 @@ void foc_link_send(foc_link_t *l, uint8_t n)
     l->tx_len = (uint8_t)(n + 2u);
     l->tx_pos = 0u;
     l->tx_left = 0u;
-    l->tx_state = TX_CODE;
+    l->tx_state = TX_LEAD;
 }
 
 uint8_t foc_link_tx_busy(const foc_link_t *l)
@@ -121,7 +122,10 @@ uint8_t foc_link_tx_busy(const foc_link_t *l)
 uint8_t foc_link_tx(foc_link_t *l, uint8_t *byte)
 {
     uint8_t got = 1u;
-    if (l->tx_state == TX_CODE) {
+    if (l->tx_state == TX_LEAD) {
+        *byte = 0u;
+        l->tx_state = TX_CODE;
+    } else if (l->tx_state == TX_CODE) {
         /* the block runs to the next zero or to the end of the reply */
         uint8_t k = l->tx_pos;
         while (k < l->tx_len && l->tx[k] != 0u) {

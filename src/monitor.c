@@ -194,6 +194,7 @@ static void status(const foc_mon_t *m, out_t *o)
     put16(o, (uint16_t)c->samples.vdc);
     put16(o, (uint16_t)c->samples.temp);
     put16(o, m->cpu_load_q15);
+    put16(o, m->overruns);
     put16(o, m->link.dropped);
     put8(o, (m->scope != NULL) ? (uint8_t)foc_scope_state(m->scope) : 0u);
 }
@@ -426,6 +427,7 @@ void foc_mon_init(foc_mon_t *m, foc_ctrl_t *ctrl, foc_scope_t *scope)
     m->ctrl = ctrl;
     m->scope = scope;
     m->cpu_load_q15 = FOC_MON_LOAD_UNKNOWN;
+    m->overruns = 0u;
 }
 
 void foc_mon_rx(foc_mon_t *m, uint8_t byte)

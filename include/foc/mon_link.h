@@ -12,8 +12,9 @@
  * byte) are ignored: a sender may start with a zero to resynchronise.
  *
  * A reply is built in `tx` by the caller, then foc_link_send() appends its
- * CRC and foc_link_tx() hands out the encoded bytes one by one (encoding
- * on the fly: no second buffer).  While a reply is being sent, a request
+ * CRC and foc_link_tx() hands out a zero (ending whatever text the board
+ * printed before, a banner) and the encoded bytes one by one (encoding on
+ * the fly: no second buffer).  While a reply is being sent, a request
  * that completes is dropped and counted (the host waits for each reply).
  *
  * Context: the application's main loop (or one low-priority task); never
@@ -38,7 +39,7 @@ typedef struct {
     uint8_t tx_len;     /* reply bytes, CRC included */
     uint8_t tx_pos;     /* next reply byte to encode */
     uint8_t tx_left;    /* data bytes left in the COBS block being sent */
-    uint8_t tx_state;   /* FOC_LINK_TX_*: idle, code next, data, delimiter */
+    uint8_t tx_state;   /* idle, leading zero, code next, data, delimiter */
     uint16_t dropped;   /* frames dropped (saturates at 65535) */
 } foc_link_t;
 

@@ -16,7 +16,8 @@
  *   for (;;) {
  *       while (uart_rx_ready()) foc_mon_rx(&mon, uart_getc());
  *       while (uart_tx_ready() && foc_mon_tx(&mon, &b) != 0u) uart_putc(b);
- *       mon.cpu_load_q15 = ...;    (the port's measurement, optional)
+ *       mon.cpu_load_q15 = ...;    (the port's measurements, optional)
+ *       mon.overruns = ...;
  *   }
  *
  * The control interrupt never waits on the monitor: commands set the
@@ -81,6 +82,8 @@ typedef struct {
                             /* answer FOC_MON_E_NOSCOPE */
     uint16_t cpu_load_q15;  /* [app] the control interrupt's share of the */
                             /* CPU, Q15 (32768 = 100 %); FOC_MON_LOAD_UNKNOWN */
+    uint16_t overruns;      /* [app] control interrupts that overran their */
+                            /* period, as the port counts them (saturating) */
 } foc_mon_t;
 
 /* `ctrl` is required, `scope` may be NULL.  Load unknown. */

@@ -18,7 +18,7 @@
  * Oracle (docs/monitor.md): everything the monitor sends is a sequence of
  * complete frames (COBS, a zero at the end, a good CRC), each a reply
  * whose byte 0 is a request's command | 0x80 and whose status byte is a
- * defined code; a reply is sent only when a request's frame has just
+ * defined code, each sent as a zero, the encoded frame, a zero; a reply is sent only when a request's frame has just
  * ended; in framed mode every uncorrupted request gets exactly one reply
  * and a corrupted one at most one, and the dropped-frames counter counts
  * every other frame; in both modes a frame that is not a good one never
@@ -232,16 +232,16 @@ static void take(int request_ended, int request_good, uint8_t cmd)
     if (!request_ended || !request_good) {
         fail("a reply without a good request");
     }
-    if (enc[n - 1] != 0) {
-        fail("reply not ended by its delimiter");
+    if (n < 3 || enc[0] != 0 || enc[n - 1] != 0) {
+        fail("reply not started and ended by a zero");
     }
-    for (size_t i = 0; i + 1 < n; i++) {
+    for (size_t i = 1; i + 1 < n; i++) {
         if (enc[i] == 0) {
             fail("more than one frame for one request");
         }
     }
     uint8_t raw[256];
-    const int len = ref_uncobs(enc, n - 1, raw, sizeof raw);
+    const int len = ref_uncobs(enc + 1, n - 2, raw, sizeof raw);
     if (len < 4 || len > (int)FOC_LINK_TX_MAX) {
         fail("reply frame malformed or too long");
     }

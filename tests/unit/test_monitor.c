@@ -92,10 +92,10 @@ static size_t take_reply(void)
     while (n < sizeof enc && foc_mon_tx(&mon, &b) != 0u) {
         enc[n++] = b;
     }
-    if (n < 2 || enc[n - 1] != 0) {
-        return 0;
+    if (n < 3 || enc[0] != 0 || enc[n - 1] != 0) {
+        return 0; /* a zero first, a zero last */
     }
-    size_t o = 0, i = 0;
+    size_t o = 0, i = 1;
     while (i < n - 1) {
         const uint8_t code = enc[i++];
         for (uint8_t k = 1; k < code && i < n - 1; k++) {
@@ -181,10 +181,11 @@ static void case_identify_and_status(void)
     ctrl.samples.vdc = 20000;
     ctrl.est.est_speed = 777;
     mon.cpu_load_q15 = 12345u;
-    TK_CHECK(REQ(FOC_MON_STATUS) == 28 && reply[1] == 0, "status length");
+    mon.overruns = 3u;
+    TK_CHECK(REQ(FOC_MON_STATUS) == 30 && reply[1] == 0, "status length");
     TK_CHECK(reply[2] == FOC_STATE_IDLE && u16(3) == 0x0104u && u16(5) == 0x0004u, "state, faults");
     TK_CHECK(s16(13) == 777 && s16(17) == -1234 && s16(19) == 20000, "speed_est, iq, vdc");
-    TK_CHECK(u16(23) == 12345u && u16(25) == 0u, "load, dropped");
+    TK_CHECK(u16(23) == 12345u && u16(25) == 3u && u16(27) == 0u, "load, overruns, dropped");
 }
 
 static void case_malformed_dropped(void)
@@ -210,8 +211,8 @@ static void case_malformed_dropped(void)
     TK_CHECK(take_reply() == 0, "an overlong frame dropped");
     uint8_t empty[] = { 0x00, 0x00 };
     feed(empty, sizeof empty);
-    TK_CHECK(REQ(FOC_MON_STATUS) == 28, "then a good request works");
-    TK_CHECK(u16(25) == 4u, "4 frames dropped: %u", u16(25));
+    TK_CHECK(REQ(FOC_MON_STATUS) == 30, "then a good request works");
+    TK_CHECK(u16(27) == 4u, "4 frames dropped: %u", u16(27));
     /* a request arriving while the reply is being sent */
     uint8_t rq[4] = { FOC_MON_START }, enc[16];
     const uint16_t c2 = ref_crc(rq, 1);
@@ -220,7 +221,7 @@ static void case_malformed_dropped(void)
     feed(enc, ref_cobs(rq, 3, enc));
     feed(enc, ref_cobs(rq, 3, enc)); /* the first reply not taken yet */
     TK_CHECK(take_reply() == 2, "the first answered");
-    TK_CHECK(REQ(FOC_MON_STATUS) == 28 && u16(25) == 5u, "the second dropped and counted");
+    TK_CHECK(REQ(FOC_MON_STATUS) == 30 && u16(27) == 5u, "the second dropped and counted");
 }
 
 static void case_table_and_writes(void)
