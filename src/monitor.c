@@ -276,7 +276,9 @@ static uint8_t scope_set(foc_scope_t *s, const uint8_t *a, uint8_t n)
         foc_var_t vars[FOC_SCOPE_CHANNELS];
         uint8_t bad = 0u;
         for (uint8_t k = 0u; k < nch; k++) {
-            bad |= (a[1u + k] >= (uint8_t)FOC_VAR_COUNT) ? 1u : 0u;
+            if (a[1u + k] >= (uint8_t)FOC_VAR_COUNT) {
+                bad = 1u;
+            }
             vars[k] = (foc_var_t)a[1u + k];
         }
         const uint8_t *t = &a[1u + nch];
