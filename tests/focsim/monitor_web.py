@@ -247,7 +247,7 @@ def main():
         blank = cdp.js("""(() => { const c = document.getElementById('plot-speed');
                   const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
                   let n = 0; for (let i = 3; i < d.length; i += 4) if (d[i]) n++; return n; })()""")
-        png = cdp.call("Page.captureScreenshot", format="png")["data"]
+        png = cdp.call("Page.captureScreenshot", format="png", captureBeyondViewport=True)["data"]
         with open(shot, "wb") as f:
             f.write(base64.b64decode(png))
         print("page shows: %s" % {k: v for k, v in shown.items() if k != "log"})
