@@ -101,8 +101,10 @@ static void banner(void)
         }
         s++;
     }
-    for (uint8_t k = 0u; k < 4u; k++) {
-        const uint8_t d = (uint8_t)((rcon >> (12u - 4u * k)) & 0xFu);
+    uint16_t shift = 16u;
+    while (shift != 0u) {
+        shift = (uint16_t)(shift - 4u);
+        const uint16_t d = (uint16_t)((uint16_t)(rcon >> shift) & 0xFu);
         while (dspic_uart_write((uint8_t)hex[d]) == 0u) {
         }
     }
