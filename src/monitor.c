@@ -10,12 +10,15 @@
 #define FOC_MOTOR_NAME ""
 #endif
 
-/* Bases in micro-units (speed: milli-rpm), folded at compile time. */
-#define MICRO(x) ((uint32_t)((x) * 1e6 + 0.5))
+/* Bases in micro-units (speed: milli-rpm), folded at compile time (the
+ * inner cast keeps the rounding a double: no composite expression is
+ * converted, MISRA C:2012 rule 10.8). */
+#define MICRO(x) ((uint32_t)(double)((x) * 1e6 + 0.5))
+#define NANO(x) ((int64_t)(double)((x) * 1e9 + 0.5))
 FOC_STATIC_ASSERT(FOC_I_BASE_A < 4000.0 && FOC_V_BASE_V < 4000.0 && FOC_VDC_BASE_V < 4000.0 &&
                       SPEED_BASE_RPM < 4.0e6,
                   "monitor: a base does not fit its identify field (32 bits, micro-units)");
-FOC_STATIC_ASSERT(FOC_VAR_COUNT < FOC_MON_PARAM_BASE, "monitor: the variables overlap the parameters");
+FOC_STATIC_ASSERT((uint32_t)FOC_VAR_COUNT < FOC_MON_PARAM_BASE, "monitor: the variables overlap the parameters");
 FOC_STATIC_ASSERT((4u + (2u * FOC_MON_SCOPE_CHUNK) + 2u) <= FOC_LINK_TX_MAX,
                   "monitor: a scope chunk does not fit the reply buffer");
 
@@ -50,7 +53,7 @@ typedef struct {
 
 static const param_t params[FOC_MON_PARAMS] = {
     { "speed_gain_shift", "", COUNTS, FOC_SPEED_HUNT_SHIFT_MAX, T_U8, F_WRITABLE | F_RUNNING },
-    { "min_speed", "rpm", (int64_t)(SPEED_BASE_RPM * 1e9 + 0.5), 32767u, T_I16, F_WRITABLE },
+    { "min_speed", "rpm", NANO(SPEED_BASE_RPM), 32767u, T_I16, F_WRITABLE },
     { "stop_mode", "", COUNTS, 2u, T_U8, F_WRITABLE },
     { "fault_brake", "", COUNTS, 1u, T_U8, F_WRITABLE },
     { "deadtime_comp", "", COUNTS, 1u, T_U8, F_WRITABLE },
@@ -75,6 +78,8 @@ static uint16_t param_get(const foc_ctrl_t *c, uint8_t p)
     return v;
 }
 
+static const foc_stop_mode_t stop_modes[3] = { STOP_MODE_RAMP, STOP_MODE_COAST, STOP_MODE_SHORT };
+
 /* `v` is within the parameter's range. */
 static void param_set(foc_ctrl_t *c, uint8_t p, uint16_t v)
 {
@@ -82,7 +87,7 @@ static void param_set(foc_ctrl_t *c, uint8_t p, uint16_t v)
     switch (p) {
     case P_SPEED_GAIN_SHIFT: c->speed_ctrl.gain_shift = b; break;
     case P_MIN_SPEED: c->opt.min_speed = (q15_t)v; break;
-    case P_STOP_MODE: c->opt.stop_mode = (b == 0u) ? STOP_MODE_RAMP : ((b == 1u) ? STOP_MODE_COAST : STOP_MODE_SHORT); break;
+    case P_STOP_MODE: c->opt.stop_mode = stop_modes[b]; break;
     case P_FAULT_BRAKE: c->opt.fault_brake = b; break;
     case P_DEADTIME_COMP: c->opt.deadtime_comp = b; break;
     case P_BRAKE_RESISTOR: c->protection.resistor_enabled = b; break;
@@ -174,7 +179,7 @@ static void identify(out_t *o)
     put32(o, MICRO(FOC_I_BASE_A));
     put32(o, MICRO(FOC_V_BASE_V));
     put32(o, MICRO(FOC_VDC_BASE_V));
-    put32(o, (uint32_t)(SPEED_BASE_RPM * 1000.0 + 0.5));
+    put32(o, (uint32_t)(double)(SPEED_BASE_RPM * 1000.0 + 0.5));
     put_str(o, FOC_BOARD_NAME);
     put_str(o, FOC_MOTOR_NAME);
 }
@@ -227,7 +232,7 @@ static uint8_t var_info(const foc_mon_t *m, uint8_t i, out_t *o)
     return e;
 }
 
-static uint8_t var_read(const foc_mon_t *m, uint8_t i, out_t *o)
+static uint8_t var_read(foc_mon_t *m, uint8_t i, out_t *o)
 {
     uint8_t e = FOC_MON_OK;
     if (i < (uint8_t)FOC_VAR_COUNT) {
@@ -282,7 +287,8 @@ static uint8_t scope_set(foc_scope_t *s, const uint8_t *a, uint8_t n)
             vars[k] = (foc_var_t)a[1u + k];
         }
         const uint8_t *t = &a[1u + nch];
-        const int32_t level = (int32_t)((uint32_t)get16(&t[4]) | ((uint32_t)get16(&t[6]) << 16u));
+        const uint32_t level_bits = (uint32_t)get16(&t[4]) | ((uint32_t)get16(&t[6]) << 16u);
+        const int32_t level = (int32_t)level_bits;
         if (bad != 0u || t[2] >= (uint8_t)FOC_VAR_COUNT || t[3] > (uint8_t)FOC_TRIG_EITHER) {
             e = FOC_MON_E_RANGE;
         } else {
