@@ -106,7 +106,7 @@ DSPIC_PORT_SRC  := $(wildcard $(DSPIC_HAL)/*.c) $(wildcard $(DSPIC_BOARD)/*.c)
 DSPIC_DEPS      := $(wildcard include/foc/*.h $(DSPIC_HAL)/*.h $(DSPIC_HAL)/stub/*.h \
                    $(DSPIC_BOARD)/*.h) $(DSPIC_PARMS)
 DSPIC_INC       := -Iinclude -I$(DSPIC_HAL) -I$(DSPIC_BOARD) \
-                   -DFOC_USERPARMS_FILE='"$(DSPIC_PARMS)"'
+                   -DFOC_USERPARMS_FILE='"$(DSPIC_PARMS)"' -DFOC_BOARD_NAME='"mclv"'
 DSPIC_WARN      := -Wall -Wextra -Wconversion -Wsign-conversion -Wshadow \
                    -Wstrict-prototypes -Wmissing-prototypes -Werror
 XC16_CC         ?= xc16-gcc
@@ -207,7 +207,7 @@ STM32_CFLAGS := -mcpu=cortex-m3 -mthumb $(STM32_OPT) -std=c99 -g -ffunction-sect
                 -Wsign-conversion -Wshadow -Wstrict-prototypes \
                 -Wmissing-prototypes -Werror -D$(word 3,$(STM32_PART_INFO)) \
                 -DSAMPLE_DELAY_PERIODS=$(STM32_SAMPLE_DELAY) \
-                -DFOC_USERPARMS_FILE='"$(STM32_PARMS)"' -Iinclude \
+                -DFOC_USERPARMS_FILE='"$(STM32_PARMS)"' -DFOC_BOARD_NAME='"stm3210b"' -Iinclude \
                 -I$(STM32_HAL) -I$(STM32_BOARD) \
                 $(if $(STM32_CMSIS),-DFOC_STM32_VENDOR_CMSIS $(addprefix -isystem ,$(STM32_CMSIS))) \
                 $(STM32_DEFS)

@@ -113,6 +113,19 @@ static const int16_t *var_source(foc_scope_t *s, foc_var_t var)
     }
 }
 
+int16_t foc_scope_var_now(foc_scope_t *s, foc_var_t var)
+{
+    int16_t v = 0;
+    if (var == FOC_VAR_STATE) {
+        v = (int16_t)s->ctrl->state; /* the shadow is the fast step's */
+    } else if ((unsigned)var < (unsigned)FOC_VAR_COUNT) {
+        v = *var_source(s, var);
+    } else {
+        v = 0;
+    }
+    return v;
+}
+
 static uint8_t running(const foc_scope_t *s)
 {
     return (uint8_t)(s->mode >= (uint8_t)FOC_SCOPE_ARMED);

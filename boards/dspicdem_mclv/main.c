@@ -8,9 +8,10 @@
  *             in FAULT
  *   S3        toggles the potentiometer's range: up to the nominal speed,
  *             or up to the maximum (field weakening); LED "fw" shows it
- *   pot       speed command (unless the monitor set one: "speed pot"
- *             gives it back)
- *   UART1     the text monitor (hal/dspic33fj/dspic_monitor.h)
+ *   pot       speed command, unless the monitor set one (then S3 gives
+ *             the speed back to the pot instead of toggling the range)
+ *   UART1     the core's monitor (foc/monitor.h, docs/monitor.md) with a
+ *             scope of SCOPE_SAMPLES samples
  *   LED "run" the controller state (mclv_led_run)
  *   watchdog  cleared only while slow steps keep coming
  */
@@ -18,44 +19,24 @@
 
 #include "board.h"
 #include "dspic33fj.h"
-#include "dspic_monitor.h"
 #include "foc/controller.h"
+#include "foc/monitor.h"
+#include "foc/scope.h"
 #include "mclv_ui.h"
 
-#define TX_SIZE 256u /* power of two, at most 256 (uint8_t indices) */
+#define SCOPE_SAMPLES 128u /* the scope's buffer: 256 of the 2048 bytes */
 
 static foc_ctrl_t ctrl;
-static dspic_mon_t mon;
+static int16_t scope_buf[SCOPE_SAMPLES];
+static foc_scope_t scope;
+static foc_mon_t mon;
 static mclv_button_t s2;
 static mclv_button_t s3;
 static uint8_t fw_range;
 static uint8_t pot_source = 1;
-static int32_t ref_rpm;
-
-static char tx_buf[TX_SIZE];
-static uint8_t tx_head;
-static uint8_t tx_tail;
-
-/* --------------------------------------------------------- serial out -- */
-static void tx_puts(const char *s)
-{
-    while (*s != '\0') {
-        const uint8_t next = (uint8_t)((tx_head + 1u) & (TX_SIZE - 1u));
-        if (next == tx_tail) {
-            return; /* full: the rest is dropped */
-        }
-        tx_buf[tx_head] = *s;
-        tx_head = next;
-        s++;
-    }
-}
-
-static void tx_flush(void)
-{
-    while (tx_tail != tx_head && dspic_uart_write((uint8_t)tx_buf[tx_tail]) != 0u) {
-        tx_tail = (uint8_t)((tx_tail + 1u) & (TX_SIZE - 1u));
-    }
-}
+static q15_t pot_speed;       /* the speed request the pot made last */
+static uint8_t pending;       /* pending_byte waits for the transmitter */
+static uint8_t pending_byte;
 
 /* -------------------------------------------------------- speed command -- */
 static int32_t range_max_rpm(void)
@@ -66,89 +47,70 @@ static int32_t range_max_rpm(void)
 static void command_speed(int32_t rpm)
 {
     const int32_t max = range_max_rpm();
-    ref_rpm = (rpm > max) ? max : (rpm < -max) ? -max : rpm;
-    foc_cmd_speed(&ctrl, dspic_rpm_to_q15(ref_rpm, BOARD_SPEED_BASE_RPM));
+    const int32_t ref_rpm = (rpm > max) ? max : (rpm < -max) ? -max : rpm;
+    foc_cmd_speed(&ctrl, mclv_rpm_to_q15(ref_rpm, BOARD_SPEED_BASE_RPM));
+    pot_speed = ctrl.req.speed; /* as the core took it (raised to its minimum) */
 }
 
 /* ------------------------------------------------------------- monitor -- */
-static uint32_t ticks_to_ns(uint16_t ticks)
+/* The port's figures for the monitor's status: the fast-step interrupt's
+ * average share of the PWM period (Q15); its overruns are the slow
+ * step's lost ticks (the fast step cannot overrun unseen: it would delay
+ * the slow one). */
+static void collect(void)
 {
-    return (uint32_t)ticks * 1000u / (uint32_t)(BOARD_TIMESTAMP_HZ / 1000000uL);
-}
-
-/* Q15 of the current full scale -> mA (|q| x 4400 < 2^31). */
-static int32_t q15_to_ma(q15_t q)
-{
-    return ((int32_t)q * (int32_t)(BOARD_CURRENT_FULL_SCALE_A * 1000.0 + 0.5)) / 32768;
-}
-
-static void send_status(void)
-{
-    char line[160];
     dspic_stats_t st;
-    dspic_mon_status_t s;
-    const q15_t vdc = ctrl.samples.vdc;
+    const uint32_t period = (uint32_t)(BOARD_TIMESTAMP_HZ / BOARD_PWM_HZ);
     dspic_fast_stats(&st);
-    s.state = foc_state_name(ctrl.state);
-    s.faults = ctrl.faults.active;
-    s.first_fault = foc_fault_name(ctrl.faults.first);
-    s.speed_rpm = dspic_q15_to_rpm(ctrl.est.speed, BOARD_SPEED_BASE_RPM);
-    s.ref_rpm = ref_rpm;
-    s.id_ma = q15_to_ma(ctrl.i_dq.d);
-    s.iq_ma = q15_to_ma(ctrl.i_dq.q);
-    s.vdc_mv = (vdc < 0) ? 0u
-                         : ((uint32_t)vdc * (uint32_t)(BOARD_VDC_FULL_SCALE_V * 1000.0 + 0.5)) >> 15;
-    s.isr_min_ns = (st.min == 0xFFFFu) ? 0u : ticks_to_ns(st.min);
-    s.isr_avg_ns = ticks_to_ns(st.avg);
-    s.isr_max_ns = ticks_to_ns(st.max);
-    s.fw_range = fw_range;
-    s.pot_source = pot_source;
-    (void)dspic_mon_format_status(line, sizeof line, &s);
-    tx_puts(line);
-    tx_puts("\r\n");
+    mon.cpu_load_q15 = ((uint32_t)st.avg >= period)
+                           ? 32767u
+                           : (uint16_t)(((uint32_t)st.avg * 32768uL) / period);
+    mon.overruns = dspic_slow_overruns();
 }
 
-static void monitor_command(const dspic_mon_cmd_t *cmd)
-{
-    switch (cmd->kind) {
-    case DSPIC_MON_START:
-        foc_cmd_start(&ctrl);
-        break;
-    case DSPIC_MON_STOP:
-        foc_cmd_stop(&ctrl);
-        break;
-    case DSPIC_MON_ACK:
-        foc_cmd_ack(&ctrl);
-        break;
-    case DSPIC_MON_SPEED:
-        pot_source = 0;
-        command_speed(cmd->rpm);
-        break;
-    case DSPIC_MON_SPEED_POT:
-        pot_source = 1;
-        break;
-    case DSPIC_MON_STATUS:
-        send_status();
-        return;
-    case DSPIC_MON_HELP:
-        tx_puts(dspic_mon_help());
-        tx_puts("\r\n");
-        return;
-    default:
-        break;
-    }
-    tx_puts(dspic_mon_reply(cmd->kind));
-    tx_puts("\r\n");
-}
-
-static void monitor_poll(void)
+/* Received bytes in, reply bytes out, never waiting on the UART. */
+static void serve_monitor(void)
 {
     uint8_t ch;
     while (dspic_uart_read(&ch) != 0u) {
-        dspic_mon_cmd_t cmd;
-        if (dspic_mon_feed(&mon, (char)ch, &cmd) != 0u) {
-            monitor_command(&cmd);
+        foc_mon_rx(&mon, ch);
+    }
+    while (pending != 0u || foc_mon_tx(&mon, &pending_byte) != 0u) {
+        pending = 1u;
+        if (dspic_uart_write(pending_byte) == 0u) {
+            break; /* the transmitter is full: the same byte next time */
         }
+        pending = 0u;
+    }
+    /* a speed the monitor commanded: the potentiometer lets go (S3 gives
+     * the speed back to it) */
+    if (pot_source != 0u && ctrl.req.speed != pot_speed) {
+        pot_source = 0u;
+    }
+}
+
+/* The reset banner: board name and RCON in hex (text before the first
+ * frame; the monitor's leading zero ends it for the host). */
+static void banner(void)
+{
+    static const char hex[] = "0123456789abcdef";
+    const char *s = BOARD_NAME " reset=0x";
+    const uint16_t rcon = dspic_reset_cause();
+    while (*s != '\0') {
+        while (dspic_uart_write((uint8_t)*s) == 0u) {
+        }
+        s++;
+    }
+    uint16_t shift = 16u;
+    while (shift != 0u) {
+        shift = (uint16_t)(shift - 4u);
+        const uint16_t d = (uint16_t)((uint16_t)(rcon >> shift) & 0xFu);
+        while (dspic_uart_write((uint8_t)hex[d]) == 0u) {
+        }
+    }
+    while (dspic_uart_write((uint8_t)'\r') == 0u) {
+    }
+    while (dspic_uart_write((uint8_t)'\n') == 0u) {
     }
 }
 
@@ -188,9 +150,10 @@ static void ui_tick(uint16_t ms)
         }
     }
     if (mclv_button_update(&s3, s3_down) != 0u) {
-        fw_range = (uint8_t)(fw_range == 0u);
         if (pot_source == 0u) {
-            command_speed(ref_rpm); /* re-clamped to the new range */
+            pot_source = 1u; /* the speed back to the pot */
+        } else {
+            fw_range = (uint8_t)(fw_range == 0u);
         }
     }
     if (pot_source != 0u) {
@@ -211,20 +174,13 @@ int main(void)
     pins_init();
     mclv_button_init(&s2);
     mclv_button_init(&s3);
-    dspic_mon_init(&mon);
     foc_init(&ctrl);
+    foc_scope_init(&scope, &ctrl, scope_buf, (uint16_t)SCOPE_SAMPLES);
+    ctrl.scope = &scope;
+    foc_mon_init(&mon, &ctrl, &scope);
+    banner();
     dspic_start(&ctrl);
     dspic_watchdog_enable();
-
-    {
-        char line[48];
-        size_t len = 0;
-        line[0] = '\0';
-        dspic_mon_put_str(line, sizeof line, &len, BOARD_NAME " reset=");
-        dspic_mon_put_hex16(line, sizeof line, &len, dspic_reset_cause());
-        tx_puts(line);
-        tx_puts("\r\n");
-    }
 
     last_ms = foc_port_timestamp();
     last_slow = dspic_slow_count();
@@ -234,8 +190,8 @@ int main(void)
             ms++;
             ui_tick(ms);
         }
-        monitor_poll();
-        tx_flush();
+        collect();
+        serve_monitor();
         if (dspic_slow_count() != last_slow) {
             last_slow = dspic_slow_count();
             dspic_watchdog_clear();

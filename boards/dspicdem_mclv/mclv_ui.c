@@ -62,3 +62,19 @@ uint8_t mclv_led_run(foc_state_t state, uint16_t ms)
         return (uint8_t)((ms / 125u) & 1u); /* 4 Hz */
     }
 }
+
+q15_t mclv_rpm_to_q15(int32_t rpm, int32_t base_rpm)
+{
+    if (base_rpm <= 0 || base_rpm > 65535L) {
+        return 0;
+    }
+    const uint8_t neg = (uint8_t)(rpm < 0);
+    const uint32_t mag = (neg != 0u) ? (uint32_t)0 - (uint32_t)rpm : (uint32_t)rpm;
+    if (mag >= (uint32_t)base_rpm) {
+        return (neg != 0u) ? Q15_MIN : Q15_MAX;
+    }
+    /* mag < base <= 65535: mag x 32768 < 2^31 */
+    const uint32_t base = (uint32_t)base_rpm;
+    const int32_t q = (int32_t)((mag * 32768u + base / 2u) / base);
+    return foc_sat_q15((neg != 0u) ? -q : q);
+}

@@ -39,6 +39,10 @@ mclv_s2_action_t mclv_s2_action(foc_state_t state);
  * linear, rounded down; min_rpm <= max_rpm, both 0..65535. */
 int32_t mclv_pot_to_rpm(q15_t pot, int32_t min_rpm, int32_t max_rpm);
 
+/* Mechanical rpm -> Q15 of a base speed (1..65535 rpm), rounded,
+ * saturating at the base; 0 for a base out of range. */
+q15_t mclv_rpm_to_q15(int32_t rpm, int32_t base_rpm);
+
 /* The "run" LED (docs/boards/dspicdem_mclv.md): 1 = on, from the
  * controller state and a free-running millisecond count: off in IDLE,
  * on in RUN, blinking 4 Hz while starting or stopping, 10 Hz in FAULT. */

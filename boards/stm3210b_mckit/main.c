@@ -1,7 +1,8 @@
 /*
  * STM3210B-MCKIT firmware: clocks, the FOC port, watchdog, buttons, LEDs
- * and the serial monitor.  All control runs in the port's interrupts; the
- * main loop only serves the operator.
+ * and the core's monitor (foc/monitor.h, docs/monitor.md) on USART1.  All
+ * control runs in the port's interrupts; the main loop only serves the
+ * operator.
  *
  *   Key button (PB9)      start when idle, stop otherwise
  *   Joystick select (PD12) acknowledge a fault
@@ -12,7 +13,8 @@
 
 #include "board.h"
 #include "foc/controller.h"
-#include "monitor.h"
+#include "foc/monitor.h"
+#include "foc/scope.h"
 #include "stm32_clock.h"
 #include "stm32_gpio.h"
 #include "stm32_iwdg.h"
@@ -24,6 +26,7 @@
 #define BUTTON_POLL_TICKS 16u /* slow ticks between button polls (~8 ms) */
 #define BUTTON_STABLE_POLLS 3u
 #define BLINK_POLLS 64u
+#define SCOPE_SAMPLES 1024u   /* the monitor's scope buffer: 2 KB of the 20 */
 
 typedef struct {
     GPIO_TypeDef *port;
@@ -32,7 +35,9 @@ typedef struct {
 } button_t;
 
 static foc_ctrl_t ctrl;
-static monitor_t monitor;
+static int16_t scope_buf[SCOPE_SAMPLES];
+static foc_scope_t scope;
+static foc_mon_t monitor;
 
 /* 1 once per press: the button read low for BUTTON_STABLE_POLLS polls. */
 static uint8_t button_pressed(button_t *b)
@@ -69,34 +74,29 @@ static void leds_show(foc_state_t s, uint32_t polls)
     stm32_gpio_write(BOARD_LED_PORT, BOARD_LED_CALIB, (uint8_t)(s == FOC_STATE_CALIB));
 }
 
-static void collect(monitor_info_t *info)
+/* The port's figures for the monitor's status: the control interrupt's
+ * average share of the PWM period (Q15) and its overruns. */
+static void collect(void)
 {
     stm32_isr_stats_t st;
     stm32_port_isr_stats(&st);
-    info->isr_min = (st.min == UINT32_MAX) ? 0u : st.min;
-    info->isr_avg = st.avg;
-    info->isr_max = st.max;
-    info->period_cycles = stm32_port_period_cycles();
-    info->overruns = st.overruns;
-    info->unclean = st.unclean;
-    info->spurious = st.spurious;
-    info->breaks = st.breaks;
+    const uint32_t period = stm32_port_period_cycles();
+    monitor.cpu_load_q15 = (period == 0u) ? FOC_MON_LOAD_UNKNOWN
+                           : (st.avg >= period) ? 32767u
+                                                : (uint16_t)((st.avg * 32768u) / period);
+    monitor.overruns = (st.overruns > 0xFFFFu) ? 0xFFFFu : (uint16_t)st.overruns;
 }
 
-static void serve_monitor(foc_ctrl_t *c)
+/* Received bytes in, reply bytes out, never waiting on the USART. */
+static void serve_monitor(void)
 {
     int ch;
+    uint8_t b;
     while ((ch = stm32_usart_getc()) >= 0) {
-        if (monitor_feed(&monitor, (char)ch)) {
-            monitor_info_t info = { 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u };
-            if (c != NULL) {
-                collect(&info);
-            }
-            if (monitor_execute(monitor.line, c, &info, stm32_usart_write) ==
-                    MONITOR_RESET_ISR_STATS && c != NULL) {
-                stm32_port_isr_stats_reset();
-            }
-        }
+        foc_mon_rx(&monitor, (uint8_t)ch);
+    }
+    while (stm32_usart_tx_ready() != 0u && foc_mon_tx(&monitor, &b) != 0u) {
+        stm32_usart_putc(b);
     }
 }
 
@@ -106,7 +106,7 @@ static void clock_fault(void)
     stm32_gpio_write(BOARD_LED_PORT, BOARD_LED_CLOCK, 1u);
     stm32_usart_write("\r\nclock fault: the crystal did not start, motor disabled\r\n");
     for (;;) {
-        serve_monitor(NULL);
+        serve_monitor(); /* the controller is idle: status says so */
     }
 }
 
@@ -115,12 +115,14 @@ int main(void)
     const uint8_t clock_ok = stm32_clock_init();
     leds_init();
     stm32_usart_init(stm32_clock_hz(), BOARD_USART_BAUD);
-    monitor_init(&monitor);
+    foc_init(&ctrl);
+    foc_scope_init(&scope, &ctrl, scope_buf, (uint16_t)SCOPE_SAMPLES);
+    ctrl.scope = &scope;
+    foc_mon_init(&monitor, &ctrl, &scope);
     if (!clock_ok) {
         clock_fault();
     }
 
-    foc_init(&ctrl);
     const uint8_t timer_ok = stm32_port_init(&ctrl);
     stm32_iwdg_start(BOARD_IWDG_TIMEOUT_MS);
     stm32_usart_write(timer_ok ? "\r\nfoc stm3210b-mckit ready\r\n"
@@ -132,7 +134,8 @@ int main(void)
     uint32_t last_poll = stm32_port_slow_ticks();
     uint32_t polls = 0;
     for (;;) {
-        serve_monitor(&ctrl);
+        collect();
+        serve_monitor();
         const uint32_t now = stm32_port_slow_ticks();
         if (now - last_poll < BUTTON_POLL_TICKS) {
             continue;

@@ -31,3 +31,13 @@ int stm32_usart_getc(void)
     /* Reading DR after SR also clears an overrun. */
     return (int)(USART1->DR & 0xFFu);
 }
+
+uint8_t stm32_usart_tx_ready(void)
+{
+    return (uint8_t)(((USART1->SR & USART_SR_TXE) != 0u) ? 1u : 0u);
+}
+
+void stm32_usart_putc(uint8_t b)
+{
+    USART1->DR = (uint16_t)b;
+}

@@ -1,81 +1,98 @@
 /*
- * Text monitor: a line protocol over a serial link (docs/monitor.md).
+ * Monitor: the binary protocol a PC (tools/foc-monitor) speaks with a
+ * board or with focsim, over any byte stream (docs/monitor.md, byte by
+ * byte).  Frames are COBS with a CRC-16 (foc/mon_link.h); every good
+ * request gets exactly one reply; a malformed frame is dropped, counted
+ * (status: dropped frames) and never executed.
  *
- * The port feeds every received byte to foc_mon_feed(); a complete line is
- * executed at once and its reply written through the caller's `write`
- * callback.  Every command gets exactly one final line starting with "ok"
- * or "err"; data lines (help, vars, a scope dump) come before it.  A scope
- * dump is long, so it is written one line per foc_mon_poll() call (call it
- * from the main loop while it returns 1); any received byte other than a
- * line end aborts it.
+ * Commands: identify, start, stop, ack, speed, status, the variable and
+ * parameter table (info, read, write: writes range-checked, refused while
+ * the motor is driven where unsafe), the scope (configure, arm, stop,
+ * state, read back in chunks), commissioning (request, results).
  *
- * Context: foc_mon_feed and foc_mon_poll run in one context below the
- * control interrupts (the main loop, or a low-priority task); `write` may
- * block (polled UART) or queue into a transmit buffer.  Do not call them
- * from an interrupt if `write` blocks.  Commands only set controller
- * requests (foc_cmd_*) and scope settings, which are safe from there.
+ * Use (the application's main loop, never the control interrupt):
  *
- * The interrupt timing the `timing` command shows is measured by the port:
- * it calls foc_isr_timing_add() at the end of the fast-step interrupt with
- * the cycles the interrupt took (foc_port_timestamp() differences).
+ *   foc_mon_init(&mon, &ctrl, &scope);
+ *   for (;;) {
+ *       while (uart_rx_ready()) foc_mon_rx(&mon, uart_getc());
+ *       while (uart_tx_ready() && foc_mon_tx(&mon, &b) != 0u) uart_putc(b);
+ *       mon.cpu_load_q15 = ...;    (the port's measurements, optional)
+ *       mon.overruns = ...;
+ *   }
  *
- * No printf, no heap: numbers are formatted here, with 64-bit integers for
- * the unit conversions (monitor context only, never in an interrupt).
+ * The control interrupt never waits on the monitor: commands set the
+ * controller's requests (foc_cmd_*) or scope settings, and the only thing
+ * in the interrupt is the scope's tick (foc/scope.h), which the fast step
+ * calls.  Work per received or transmitted byte is bounded (a reply is
+ * built when its request's last byte arrives: at most one chunk of
+ * FOC_MON_SCOPE_CHUNK samples).
  */
 #ifndef FOC_MONITOR_H
 #define FOC_MONITOR_H
 
-#include <stddef.h>
 #include <stdint.h>
 #include "foc/controller.h"
+#include "foc/mon_link.h"
 #include "foc/scope.h"
 
-#define FOC_MON_LINE_MAX 63u  /* characters per command line */
-#define FOC_MON_MAX_ARGS 7u   /* words per line, command included */
-#define FOC_MON_TIMING_AVG_SHIFT 6u /* running average over ~64 periods */
+#define FOC_MON_PROTOCOL 1u        /* protocol version (identify) */
+#define FOC_MON_FW_VERSION 0x0100u /* firmware version, major.minor (identify) */
+#define FOC_MON_SCOPE_CHUNK 16u    /* samples per scope read */
+#define FOC_MON_LOAD_UNKNOWN 0xFFFFu
 
-/* Fast-step interrupt timing, filled by the port, read by the monitor. */
+/* Commands (request byte 0); the reply's byte 0 is the command | 0x80. */
+#define FOC_MON_IDENTIFY 0x01u
+#define FOC_MON_START 0x02u
+#define FOC_MON_STOP 0x03u
+#define FOC_MON_ACK 0x04u
+#define FOC_MON_SPEED 0x05u
+#define FOC_MON_STATUS 0x06u
+#define FOC_MON_VAR_INFO 0x07u
+#define FOC_MON_VAR_READ 0x08u
+#define FOC_MON_VAR_WRITE 0x09u
+#define FOC_MON_SCOPE_SET 0x10u
+#define FOC_MON_SCOPE_ARM 0x11u
+#define FOC_MON_SCOPE_STOP 0x12u
+#define FOC_MON_SCOPE_STATE 0x13u
+#define FOC_MON_SCOPE_READ 0x14u
+#define FOC_MON_COMMISSION 0x20u
+#define FOC_MON_COMM_RESULT 0x21u
+
+/* Reply byte 1: the outcome. */
+#define FOC_MON_OK 0u
+#define FOC_MON_E_COMMAND 1u  /* unknown command */
+#define FOC_MON_E_LENGTH 2u   /* wrong argument length */
+#define FOC_MON_E_RANGE 3u    /* argument out of range */
+#define FOC_MON_E_RUNNING 4u  /* refused while the motor is driven / not IDLE */
+#define FOC_MON_E_READONLY 5u /* the entry cannot be written */
+#define FOC_MON_E_BUSY 6u     /* a capture runs: stop it first */
+#define FOC_MON_E_NOSCOPE 7u  /* no scope attached */
+#define FOC_MON_E_NODATA 8u   /* no finished capture */
+
+/* The table: entries 0 .. FOC_VAR_COUNT-1 are the scope's live variables
+ * (foc_var_t, read-only), then FOC_MON_PARAMS parameters from
+ * FOC_MON_PARAM_BASE. */
+#define FOC_MON_PARAM_BASE 64u
+#define FOC_MON_PARAMS 8u
+
 typedef struct {
-    uint32_t min_cycles;
-    uint32_t max_cycles;
-    uint32_t avg_x64;       /* running average x 2^FOC_MON_TIMING_AVG_SHIFT */
-    uint32_t count;         /* measurements since the last reset (sat.) */
-    uint32_t clock_hz;      /* cycles per second of the port's time base */
-    volatile uint8_t reset; /* set by the monitor; the next add restarts */
-} foc_isr_timing_t;
-
-/* Clears the statistics; `clock_hz` is the timestamp rate (0: unknown). */
-void foc_isr_timing_init(foc_isr_timing_t *t, uint32_t clock_hz);
-
-/* One measurement, from the interrupt (cycles clamped to 2^25). */
-void foc_isr_timing_add(foc_isr_timing_t *t, uint32_t cycles);
-
-typedef void (*foc_mon_write_t)(const char *s, size_t n);
-
-typedef struct {
+    foc_link_t link;
     foc_ctrl_t *ctrl;
-    foc_scope_t *scope;        /* NULL: scope and dac answer "err" */
-    foc_isr_timing_t *timing;  /* NULL: timing answers "err" */
-    foc_mon_write_t write;
+    foc_scope_t *scope;     /* NULL: the variable reads and scope commands */
+                            /* answer FOC_MON_E_NOSCOPE */
+    uint16_t cpu_load_q15;  /* [app] the control interrupt's share of the */
+                            /* CPU, Q15 (32768 = 100 %); FOC_MON_LOAD_UNKNOWN */
+    uint16_t overruns;      /* [app] control interrupts that overran their */
+                            /* period, as the port counts them (saturating) */
+} foc_mon_t;
 
-    char line[FOC_MON_LINE_MAX + 1u];
-    uint8_t len;
-    uint8_t line_error;        /* bits: too long, bad character */
-    uint8_t last_cr;           /* the previous byte was CR (CR LF = one end) */
+/* `ctrl` is required, `scope` may be NULL.  Load unknown. */
+void foc_mon_init(foc_mon_t *m, foc_ctrl_t *ctrl, foc_scope_t *scope);
 
-    uint8_t dump;              /* dump phase, 0 when none */
-    uint16_t dump_index;       /* channel or frame being written */
-    uint16_t dump_sum;         /* sum of the values written, mod 2^16 */
-} foc_monitor_t;
+/* One received byte; a good request is executed when its frame ends. */
+void foc_mon_rx(foc_mon_t *m, uint8_t byte);
 
-/* `ctrl` and `write` are required; `scope` and `timing` may be NULL. */
-void foc_mon_init(foc_monitor_t *m, foc_ctrl_t *ctrl, foc_scope_t *scope,
-                  foc_isr_timing_t *timing, foc_mon_write_t write);
-
-/* One received byte. */
-void foc_mon_feed(foc_monitor_t *m, uint8_t byte);
-
-/* Writes the next line of a pending scope dump; 1 while more follows. */
-uint8_t foc_mon_poll(foc_monitor_t *m);
+/* The next byte to transmit into *byte: 1, or 0 when there is none. */
+uint8_t foc_mon_tx(foc_mon_t *m, uint8_t *byte);
 
 #endif /* FOC_MONITOR_H */

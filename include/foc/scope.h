@@ -188,6 +188,9 @@ int foc_scope_set_dac(foc_scope_t *s, uint8_t out, foc_var_t var);
 /* The two debug output values now (Q15 counts of the selected variables). */
 void foc_scope_dac(foc_scope_t *s, q15_t *ch1, q15_t *ch2);
 
+/* The present counts of `var` (the monitor's read; 0 if out of range). */
+int16_t foc_scope_var_now(foc_scope_t *s, foc_var_t var);
+
 /* Variable table: NULL if out of range; the index of `name`, or -1. */
 const foc_var_info_t *foc_var_info(foc_var_t var);
 int foc_var_find(const char *name);

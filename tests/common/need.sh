@@ -15,6 +15,7 @@
 #   avr      avr-gcc with avr-libc (a compiler whose int is 16 bits)
 #   clang    clang
 #   llvm     llvm-cov, llvm-profdata, opt
+#   chromium Debian's chromium (the monitor's web view in a headless browser)
 name=$1
 shift
 missing=""
@@ -37,6 +38,9 @@ while [ $# -gt 0 ] && [ "$1" != "--" ]; do
                 missing="$missing gcc-avr avr-libc" ;;
         clang)
             command -v clang >/dev/null 2>&1 || missing="$missing clang" ;;
+        chromium)
+            { command -v chromium || command -v chromium-browser; } >/dev/null 2>&1 ||
+                missing="$missing chromium" ;;
         llvm)
             { command -v llvm-cov && command -v llvm-profdata && command -v opt; } \
                 >/dev/null 2>&1 || missing="$missing llvm" ;;

@@ -81,17 +81,25 @@ SEEDS = {
 }
 
 
-# The monitor harness (fuzz_monitor.c): command text.
+# The monitor harness (fuzz_monitor.c): byte 0 odd = requests the harness
+# frames itself, each a length byte (bit 7: corrupt one byte) and payload.
+def req(*payload):
+    return bytes([len(payload)]) + bytes(payload)
+
+
 MONITOR_SEEDS = {
-    "help_status": b"help\r\nstatus\r\nvars\r\ntiming\r\ntiming reset\r\ndac\r\n",
-    "run": b"speed 1500\nstart\n" + b"\n" * 40 + b"status\nspeed -750.5\nstop\nack\n",
-    "scope": b"scope ch id iq vdc speed\nscope decim 2\nscope trig iq rising 0.1\n"
-    b"scope pre 20\nscope arm\nstart\n" + b"\n" * 20 + b"scope\nscope dump\nscope stop\n",
-    "scope_immediate": b"scope ch theta\nscope trig immediate\nscope arm\n" + b"\n" * 10
-    + b"scope dump\n",
-    "errors": b"foo\nspeed\nspeed 12x\nspeed 99999\nscope decim 0\n"
-    b"a b c d e f g h\n" + b"x" * 70 + b"\n\x01\x7fhelp\b\n  \t \n",
-    "dac": b"dac iq id\ndac theta speed\ndac nope id\n",
+    "identify_status": b"\x01" + req(0x01) + req(0x06) + req(0x07, 16) + req(0x07, 64)
+    + req(0x08, 17) + req(0x08, 65),
+    "run": b"\x01" + req(0x05, 0x00, 0x20) + req(0x02) + req(0x06) * 30
+    + req(0x09, 64, 1, 0) + req(0x09, 66, 1, 0) + req(0x03) + req(0x04),
+    "scope": b"\x01" + req(0x10, 4, 5, 6, 21, 16, 2, 0, 6, 1, 0x00, 0x10, 0, 0, 20)
+    + req(0x11) + req(0x02) + req(0x06) * 20 + req(0x13) + req(0x14, 0, 0, 16)
+    + req(0x14, 16, 0, 16) + req(0x12),
+    "scope_immediate": b"\x01" + req(0x10, 1, 13, 1, 0, 0, 0, 0, 0, 0, 0, 0) + req(0x11)
+    + req(0x06) * 10 + req(0x14, 0, 0, 16) + req(0x14, 0xF8, 0, 8),
+    "errors": b"\x01" + req(0x7E) + req(0x05) + req(0x09, 64, 9, 0) + req(0x09, 3, 0, 0)
+    + req(0x14, 0, 0, 0) + bytes([0x83, 0x06, 0x01, 0x02, 0x05]) + req(0x20) + req(0x21),
+    "noise": b"\x00\x03\x06\x11\x22\x00\x00\xff" + bytes(range(1, 60)) + b"\x00\x02\x06\x00",
 }
 
 # Reproducers of open findings: kept out of the corpus so that `make test`

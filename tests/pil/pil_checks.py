@@ -19,6 +19,7 @@ except where the check is about what the firmware says (the monitor).
 """
 
 import os
+import struct
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -82,14 +83,11 @@ def boot_once(common):
 
 
 def c_monitor(common):
-    scn = scenario("monitor", "0.00 status\n0.00 help\n0.00 speed 1234\n0.00 bogus\n0.05 end\n")
-    # status/help/bogus are not focsim commands: typed through the monitor
-    # directly (pil.Run.say), the scenario only sets the length
-    with open(scn, "w") as fh:
-        fh.write("0.05 end\n")
-    a = pil.main.__defaults__
+    """The image's monitor (the core's, docs/monitor.md) through its USART:
+    identify, status, a speed command, an unknown command, a garbled
+    frame (dropped and counted, not answered)."""
+    scn = scenario("monitor", "0.05 end\n")
     argv = ["run", "--scenario", scn] + common
-    import argparse  # noqa: F401
     r = pil.Run(_args(argv))
     m = r.m
     orig = r.run
@@ -97,19 +95,32 @@ def c_monitor(common):
     def typed(events, end):
         while not r.lines and m.t < 0.1 * TICK_HZ:
             m.run(m.t + 0.0005 * TICK_HZ)
-        for cmd in ("status", "help", "speed 1234", "bogus", "isr"):
+        for cmd in ("identify", "status", "speed 1234", "raw 7e", "garbled start", "status"):
             r.say(m.t, cmd)
         return orig(events, end)
     r.run = typed
     r.run([], 0.05)
-    lines = [l for _, l in r.lines]
-    print("\n".join("  < " + l for l in lines))
-    check(any(l.startswith("state=IDLE") for l in lines), "status answers state=IDLE ...")
-    check(any(l.startswith("start stop ack speed") for l in lines), "help lists the commands")
-    check(lines.count("ok") >= 1, "speed 1234 answers ok")
-    check(any(l == "err unknown command" for l in lines), "an unknown command is refused")
-    check(any(l.startswith("isr min=") and "budget=4500" in l for l in lines),
-          "isr reports the interrupt statistics with a 4500-cycle budget")
+    reps = [p for _, p in r.replies]
+    for p in reps:
+        print("  < " + p.hex(" "))
+    fm = pil.fm
+    ident = [p for p in reps if p[0] == 0x81 and p[1] == 0]
+    check(len(ident) == 1 and ident[0][2] == 1 and b"stm3210b" in ident[0],
+          "identify: protocol 1, board stm3210b")
+    if ident:
+        pwm = struct.unpack_from("<I", ident[0], 2 + 4)[0]
+        check(pwm == int(userparm("PWM_FREQUENCY_HZ")), "identify: PWM %d Hz" % pwm)
+    st = [p for p in reps if p[0] == 0x86 and p[1] == 0]
+    check(len(st) >= 2 and st[0][2] == fm.STATES.index("IDLE"), "status answers state=IDLE")
+    want = round(1234 * 32768 / userparm("SPEED_BASE_RPM"))
+    check(any(p[0] == 0x85 and p[1] == 0 for p in reps), "speed 1234 answered ok")
+    if len(st) >= 2:
+        f = struct.unpack_from("<BHHhhhhhhhhHHHB", st[-1], 2)
+        check(f[3] == want, "the speed command took: %d counts (want %d)" % (f[3], want))
+        check(f[13] == 1, "the garbled frame counted as dropped (%d)" % f[13])
+        check(0 < f[11] < 32768, "CPU load reported: %.1f %%" % (f[11] * 100.0 / 32768))
+    check(any(p[0] == 0xFE and p[1] == 1 for p in reps), "an unknown command is refused")
+    check(not any(p[0] == 0x82 for p in reps), "the garbled start was not executed")
     check(m.usart.overruns == 0, "no character lost")
 
 

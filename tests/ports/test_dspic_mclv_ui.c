@@ -85,5 +85,22 @@ static void case_leds(void)
     TK_CHECK(toggles_start == 8, "4 Hz while starting: %d toggles/s", toggles_start);
 }
 
-TK_CASES(TK_CASE(case_debounce), TK_CASE(case_s2_actions), TK_CASE(case_pot_range),
+static void case_rpm_conversion(void)
+{
+    TK_CHECK(mclv_rpm_to_q15(3000, 6000) == 16384, "half base");
+    TK_CHECK(mclv_rpm_to_q15(-3000, 6000) == -16384, "minus half base");
+    TK_CHECK(mclv_rpm_to_q15(6000, 6000) == 32767, "base saturates");
+    TK_CHECK(mclv_rpm_to_q15(-6000, 6000) == -32768, "minus base");
+    TK_CHECK(mclv_rpm_to_q15(100000, 6000) == 32767, "far above");
+    TK_CHECK(mclv_rpm_to_q15(INT32_MIN, 6000) == -32768, "INT32_MIN");
+    TK_CHECK(mclv_rpm_to_q15(100, 0) == 0, "bad base");
+    for (int32_t rpm = -5999; rpm <= 5999; rpm++) {
+        const q15_t q = mclv_rpm_to_q15(rpm, 6000);
+        const double exact = (double)rpm * 32768.0 / 6000.0;
+        TK_CHECK(q - exact <= 0.5 && exact - q <= 0.5, "%ld rpm -> %d (%.2f)", (long)rpm, q, exact);
+    }
+}
+
+
+TK_CASES(TK_CASE(case_rpm_conversion), TK_CASE(case_debounce), TK_CASE(case_s2_actions), TK_CASE(case_pot_range),
          TK_CASE(case_leds))

@@ -56,8 +56,6 @@ check "unknown estimator rejected" "[ $? -ne 0 ]"
 check "--decimate 0 rejected" "[ $? -ne 0 ]"
 "$focsim" --scenario "$dir/does-not-exist.scn" > /dev/null 2>&1
 check "missing scenario rejected" "[ $? -ne 0 ]"
-"$focsim" --monitor-out "$dir/mon.txt" --scenario "$dir/short.scn" > /dev/null 2>&1
-check "--monitor-out without --monitor rejected" "[ $? -ne 0 ]"
 "$focsim" --help | grep -q -- '--ideal-inverter'
 check "usage names --ideal-inverter" "[ $? -eq 0 ]"
 # a plant the model cannot integrate: an error and a non-zero exit, not nan

@@ -4,7 +4,7 @@
  *   focsim [--estimator sensored|pll|luenberger|flux] [--scenario FILE]
  *          [--csv FILE] [--plot FILE.svg] [--seed N] [--decimate N]
  *          [--field-weakening off|table|voltage]
- *          [--monitor FILE [--monitor-out FILE]] [--time] [--substeps N]
+ *          [--pty [--pace F]] [--time] [--substeps N]
  *          [--commission-out FILE.ini]
  *          [--measure-from T] [--report] [--print-default-scenario]
  *
@@ -22,10 +22,11 @@
  * --time adds the processor time of the simulation loop and the real-time
  * factor (simulated / processor seconds) to the summary.
  *
- * --monitor runs a script of timed monitor commands ("<time_s> <command>"
- * lines, simmon.h) against the controller, with a scope buffer sampled
- * after every fast step; what the monitor answers (scope dumps included)
- * goes to --monitor-out, or to standard output.
+ * --pty serves the monitor (foc/monitor.h, docs/monitor.md) on a
+ * pseudo-terminal whose path it prints on standard error ("pty:
+ * /dev/pts/N", simmon.h), with a scope buffer sampled after every fast
+ * step, and paces the simulation to wall time: --pace F runs it F times as
+ * fast (default 1; 0 as fast as it can).  tools/foc-monitor connects to it.
  *
  * The summary's angle_err_rms_deg is the RMS of the estimated minus the
  * plant's true electrical angle (deg) over the PWM periods in RUN from
@@ -60,8 +61,8 @@ typedef struct {
     const char *csv;
     const char *plot;
     unsigned long decimate;
-    const char *monitor;     /* monitor script, or NULL */
-    const char *monitor_out; /* its output file, NULL: standard output */
+    int pty;                 /* --pty: the monitor on a pseudo-terminal */
+    double pace;             /* --pace: simulated / wall time, 0 unpaced */
     const char *commission_out; /* --commission-out: motor INI, or NULL */
     int time;                /* --time: report the real-time factor */
     int report;              /* --report: report.h's keys */
@@ -83,7 +84,7 @@ static void usage(FILE *f)
           "              [--csv FILE] [--plot FILE.svg] [--seed N] [--decimate N]\n"
           "              [--field-weakening off|table|voltage] [--stop-mode ramp|coast|short]\n"
           "              [--brake-resistor on|off] [--sensored-start] [--min-speed-rpm N]\n"
-          "              [--monitor FILE [--monitor-out FILE]] [--time] [--substeps N]\n"
+          "              [--pty [--pace F]] [--time] [--substeps N]\n"
           "              [--ideal-inverter]\n"
           "              [--commission-out FILE.ini]\n"
           "              [--measure-from T] [--report] [--print-default-scenario]\n",
@@ -161,12 +162,15 @@ static int parse_option(cli_t *cli, const char *opt, const char *val)
             return -1;
         }
         cli->sim.measure_from_s = t;
-    } else if (strcmp(opt, "--monitor") == 0) {
-        cli->monitor = val;
+    } else if (strcmp(opt, "--pace") == 0) {
+        char *end = NULL;
+        cli->pace = strtod(val, &end);
+        if (end == val || *end != '\0' || !(cli->pace >= 0.0)) {
+            fprintf(stderr, "focsim: --pace takes a factor >= 0\n");
+            return -1;
+        }
     } else if (strcmp(opt, "--commission-out") == 0) {
         cli->commission_out = val;
-    } else if (strcmp(opt, "--monitor-out") == 0) {
-        cli->monitor_out = val;
     } else if (strcmp(opt, "--decimate") == 0) {
         if (parse_ulong(val, &cli->decimate) != 0 || cli->decimate == 0) {
             fprintf(stderr, "focsim: --decimate takes a whole number >= 1\n");
@@ -185,8 +189,8 @@ static int parse_cli(int argc, char **argv, cli_t *cli)
     cli->csv = NULL;
     cli->plot = NULL;
     cli->decimate = 1;
-    cli->monitor = NULL;
-    cli->monitor_out = NULL;
+    cli->pty = 0;
+    cli->pace = 1.0;
     cli->commission_out = NULL;
     cli->time = 0;
     cli->report = 0;
@@ -205,6 +209,10 @@ static int parse_cli(int argc, char **argv, cli_t *cli)
         }
         if (strcmp(opt, "--time") == 0) {
             cli->time = 1;
+            continue;
+        }
+        if (strcmp(opt, "--pty") == 0) {
+            cli->pty = 1;
             continue;
         }
         if (strcmp(opt, "--report") == 0) {
@@ -226,11 +234,6 @@ static int parse_cli(int argc, char **argv, cli_t *cli)
         if (parse_option(cli, opt, argv[++i]) != 0) {
             return -1;
         }
-    }
-    if (cli->monitor_out != NULL && cli->monitor == NULL) {
-        fprintf(stderr, "focsim: --monitor-out needs --monitor (the script whose answers it "
-                        "holds)\n");
-        return -1;
     }
     return 0;
 }
@@ -370,8 +373,8 @@ int main(int argc, char **argv)
         return 1;
     }
     static simmon_t mon;
-    if (cli.monitor != NULL) {
-        if (simmon_open(&mon, cli.monitor, cli.monitor_out, &sim.ctrl, err, sizeof err) != 0) {
+    if (cli.pty) {
+        if (simmon_open(&mon, &sim.ctrl, cli.pace, err, sizeof err) != 0) {
             fprintf(stderr, "focsim: %s\n", err);
             scn_free(&scn);
             return 1;
@@ -397,8 +400,8 @@ int main(int argc, char **argv)
     char line[512];
     const clock_t t0 = clock();
     for (;;) {
-        if (cli.monitor != NULL) {
-            simmon_run(&mon, sim.t_s); /* commands due before this period */
+        if (cli.pty) {
+            simmon_run(&mon, sim.t_s); /* the board's main loop between periods */
         }
         /* a row only where one is used: CSV, plot, the summary's last */
         const int need_row = csv != NULL || cli.plot != NULL || cli.report || sim_last_period(&sim);
@@ -436,9 +439,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "focsim: cannot write %s\n", cli.plot);
         rc = 1;
     }
-    if (cli.monitor != NULL && simmon_close(&mon) != 0) {
-        fprintf(stderr, "focsim: error writing the monitor output\n");
-        rc = 1;
+    if (cli.pty) {
+        simmon_close(&mon);
     }
     print_summary(&sim, &last, cli.estimator);
     sim_commission_print(&sim, stdout);

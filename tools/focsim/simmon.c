@@ -1,168 +1,93 @@
-/* focsim's monitor script runner; see simmon.h. */
+/* focsim's monitor on a pseudo-terminal; see simmon.h. */
+#define _XOPEN_SOURCE 600
+#define _DEFAULT_SOURCE
 #include "simmon.h"
 
-#include <ctype.h>
 #include <errno.h>
+#include <fcntl.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <termios.h>
+#include <unistd.h>
 
-/* The monitor's write callback has no context: one output at a time. */
-static FILE *out_file;
-
-static void write_out(const char *s, size_t n)
+int simmon_open(simmon_t *m, foc_ctrl_t *ctrl, double pace, char *err, size_t errlen)
 {
-    if (out_file != NULL) {
-        fwrite(s, 1, n, out_file);
-    }
-}
-
-static void free_cmds(simmon_t *m)
-{
-    for (size_t i = 0; i < m->count; i++) {
-        free(m->cmds[i].text);
-    }
-    free(m->cmds);
-    m->cmds = NULL;
-    m->count = 0;
-}
-
-/* One script line; 1 if it holds a command, 0 if blank or a comment, -1 on
- * error (message in err). */
-static int parse_line(char *line, double prev_t, simmon_cmd_t *cmd, char *err,
-                      size_t errlen)
-{
-    line[strcspn(line, "\r\n")] = '\0';
-    char *p = line;
-    while (isspace((unsigned char)*p)) {
-        p++;
-    }
-    if (*p == '\0' || *p == '#') {
-        return 0;
-    }
-    char *end = NULL;
-    errno = 0;
-    const double t = strtod(p, &end);
-    if (end == p || errno != 0 || !(t >= 0.0) || !isspace((unsigned char)*end)) {
-        snprintf(err, errlen, "expected '<time_s> <command>'");
+    m->master = posix_openpt(O_RDWR | O_NOCTTY);
+    if (m->master < 0 || grantpt(m->master) != 0 || unlockpt(m->master) != 0) {
+        snprintf(err, errlen, "cannot create a pseudo-terminal: %s", strerror(errno));
         return -1;
     }
-    if (t < prev_t) {
-        snprintf(err, errlen, "time %g is before the previous line's", t);
+    const char *name = ptsname(m->master);
+    m->slave = (name != NULL) ? open(name, O_RDWR | O_NOCTTY) : -1;
+    struct termios tio;
+    if (m->slave < 0 || tcgetattr(m->slave, &tio) != 0) {
+        snprintf(err, errlen, "cannot open the pseudo-terminal's slave: %s", strerror(errno));
+        close(m->master);
         return -1;
     }
-    while (isspace((unsigned char)*end)) {
-        end++;
-    }
-    if (*end == '\0') {
-        snprintf(err, errlen, "no command after the time");
-        return -1;
-    }
-    cmd->t_s = t;
-    cmd->text = malloc(strlen(end) + 1);
-    if (cmd->text == NULL) {
-        snprintf(err, errlen, "out of memory");
-        return -1;
-    }
-    strcpy(cmd->text, end);
-    return 1;
-}
-
-static int read_script(simmon_t *m, const char *path, char *err, size_t errlen)
-{
-    FILE *f = fopen(path, "r");
-    if (f == NULL) {
-        snprintf(err, errlen, "cannot read %s: %s", path, strerror(errno));
-        return -1;
-    }
-    size_t cap = 0;
-    char line[512];
-    char why[160];
-    unsigned lineno = 0;
-    int rc = 0;
-    while (rc == 0 && fgets(line, sizeof line, f) != NULL) {
-        lineno++;
-        if (strchr(line, '\n') == NULL && !feof(f)) {
-            snprintf(err, errlen, "%s:%u: line too long", path, lineno);
-            rc = -1;
-            break;
-        }
-        if (m->count == cap) {
-            cap = cap ? 2 * cap : 16;
-            simmon_cmd_t *c = realloc(m->cmds, cap * sizeof *c);
-            if (c == NULL) {
-                snprintf(err, errlen, "out of memory");
-                rc = -1;
-                break;
-            }
-            m->cmds = c;
-        }
-        const double prev_t = m->count ? m->cmds[m->count - 1].t_s : 0.0;
-        const int got = parse_line(line, prev_t, &m->cmds[m->count], why, sizeof why);
-        if (got < 0) {
-            snprintf(err, errlen, "%s:%u: %s", path, lineno, why);
-            rc = -1;
-        } else {
-            m->count += (size_t)got;
-        }
-    }
-    fclose(f);
-    return rc;
-}
-
-int simmon_open(simmon_t *m, const char *script, const char *out_path,
-                foc_ctrl_t *ctrl, char *err, size_t errlen)
-{
-    m->cmds = NULL;
-    m->count = 0;
-    m->next = 0;
-    m->out = NULL;
-    if (read_script(m, script, err, errlen) != 0) {
-        free_cmds(m);
-        return -1;
-    }
-    if (out_path == NULL || strcmp(out_path, "-") == 0) {
-        m->out = stdout;
-    } else {
-        m->out = fopen(out_path, "wb"); /* CR LF as the UART sends them */
-        if (m->out == NULL) {
-            snprintf(err, errlen, "cannot write %s: %s", out_path, strerror(errno));
-            free_cmds(m);
-            return -1;
-        }
-    }
-    out_file = m->out;
+    cfmakeraw(&tio);
+    tcsetattr(m->slave, TCSANOW, &tio);
+    fcntl(m->master, F_SETFL, fcntl(m->master, F_GETFL) | O_NONBLOCK);
+    m->pace = pace;
+    m->countdown = 0;
+    clock_gettime(CLOCK_MONOTONIC, &m->t0);
     foc_scope_init(&m->scope, ctrl, m->buf, (uint16_t)SIMMON_SCOPE_SAMPLES);
-    foc_mon_init(&m->mon, ctrl, &m->scope, NULL, write_out);
+    foc_mon_init(&m->mon, ctrl, &m->scope);
+    fprintf(stderr, "pty: %s\n", name);
+    fflush(stderr);
     return 0;
+}
+
+static void serve(simmon_t *m)
+{
+    uint8_t in[256];
+    ssize_t n;
+    while ((n = read(m->master, in, sizeof in)) > 0) {
+        for (ssize_t i = 0; i < n; i++) {
+            foc_mon_rx(&m->mon, in[i]);
+            /* the reply goes out before the next request byte, as a
+             * board's main loop does (the host waits for it anyway) */
+            uint8_t out[64];
+            size_t k = 0;
+            uint8_t b;
+            while (foc_mon_tx(&m->mon, &b) != 0u) {
+                out[k++] = b;
+                if (k == sizeof out) {
+                    (void)!write(m->master, out, k);
+                    k = 0;
+                }
+            }
+            if (k > 0) {
+                (void)!write(m->master, out, k);
+            }
+        }
+    }
 }
 
 void simmon_run(simmon_t *m, double t_s)
 {
-    while (m->next < m->count && m->cmds[m->next].t_s <= t_s) {
-        for (const char *p = m->cmds[m->next].text; *p != '\0'; p++) {
-            foc_mon_feed(&m->mon, (uint8_t)*p);
+    if (m->countdown > 0u) {
+        m->countdown--;
+        return;
+    }
+    m->countdown = SIMMON_SERVICE_PERIODS - 1u;
+    serve(m);
+    if (m->pace > 0.0) {
+        struct timespec now;
+        clock_gettime(CLOCK_MONOTONIC, &now);
+        const double wall = (double)(now.tv_sec - m->t0.tv_sec) + 1e-9 * (double)(now.tv_nsec - m->t0.tv_nsec);
+        const double ahead = t_s / m->pace - wall;
+        if (ahead > 0.001) {
+            const struct timespec d = { (time_t)ahead, (long)((ahead - (double)(time_t)ahead) * 1e9) };
+            nanosleep(&d, NULL);
         }
-        foc_mon_feed(&m->mon, (uint8_t)'\r');
-        foc_mon_feed(&m->mon, (uint8_t)'\n');
-        while (foc_mon_poll(&m->mon) != 0u) {
-        }
-        m->next++;
     }
 }
 
-int simmon_close(simmon_t *m)
+void simmon_close(simmon_t *m)
 {
-    int rc = 0;
-    if (m->out != NULL) {
-        if (m->out == stdout) {
-            rc = fflush(stdout) != 0 ? -1 : 0;
-        } else {
-            const int failed = ferror(m->out);
-            rc = (fclose(m->out) != 0 || failed) ? -1 : 0;
-        }
-    }
-    m->out = NULL;
-    out_file = NULL;
-    free_cmds(m);
-    return rc;
+    serve(m);
+    close(m->slave);
+    close(m->master);
 }

@@ -32,6 +32,34 @@ sys.path.insert(0, HERE)
 import machine  # noqa: E402
 from periph import TICK_HZ, IRQ_ADC1_2  # noqa: E402
 
+
+def load_foc_monitor():
+    """tools/foc-monitor as a module: its framing (COBS + CRC-16) and its
+    command codes, so that the PIL speaks the monitor protocol exactly as
+    the PC tool does."""
+    import importlib.machinery
+    import importlib.util
+    path = os.path.join(HERE, "..", "foc-monitor")
+    loader = importlib.machinery.SourceFileLoader("foc_monitor", path)
+    spec = importlib.util.spec_from_loader("foc_monitor", loader)
+    mod = importlib.util.module_from_spec(spec)
+    loader.exec_module(mod)
+    return mod
+
+
+fm = load_foc_monitor()
+
+
+def board_userparm(name):
+    """A number from the board's userparms.h (the image's)."""
+    path = os.path.join(HERE, "..", "..", "boards", "stm3210b_mckit", "userparms.h")
+    with open(path) as fh:
+        for line in fh:
+            w = line.split()
+            if len(w) >= 3 and w[0] == "#define" and w[1] == name:
+                return float(w[2])
+    raise SystemExit("userparms.h: no %s" % name)
+
 EXC_ADC = 16 + IRQ_ADC1_2
 STATES = ["IDLE", "CALIB", "ALIGN", "OPENLOOP", "RUN", "STOP", "BRAKE", "FAULT", "CATCH",
                "COMMISSION"]
@@ -113,7 +141,10 @@ class Run:
         self.tty_queue = []
         self.tty_busy = False
         self.sent = []
-        self.lines = []            # (t, text) from the image
+        self.lines = []            # (t, text) from the image (its banner)
+        self.replies = []          # (t, reply payload) of the monitor
+        self.in_frames = False     # text until the monitor's first zero
+        self.speed_base_rpm = board_userparm("SPEED_BASE_RPM")
         self.rows = []
         self.isr = []              # (t_start, cycles, latency, deadline, overrun, state)
         self.isr_start = None
@@ -129,7 +160,11 @@ class Run:
 
     # --- image output
     def on_tx(self, b, t):
-        if b in (10, 13):
+        if b == 0:
+            self.in_frames = True
+        if self.in_frames:
+            self.on_frame_byte(b, t)
+        elif b in (10, 13):
             if self.rx_line:
                 self.lines.append(((t - getattr(self, "t_origin", 0.0)) / TICK_HZ, self.rx_line.decode("ascii", "replace")))
                 if self.tty_busy:
@@ -139,6 +174,34 @@ class Run:
             self.rx_line = bytearray()
         else:
             self.rx_line.append(b)
+
+    def on_frame_byte(self, b, t):
+        """The monitor's frames (docs/monitor.md): a reply per zero-ended
+        frame that decodes; the next queued request after it."""
+        if b != 0:
+            self.rx_line.append(b)
+            return
+        enc, self.rx_line = bytes(self.rx_line), bytearray()
+        payload = fm.unframe(enc) if enc else None
+        if payload is None:
+            return
+        ts = (t - getattr(self, "t_origin", 0.0)) / TICK_HZ
+        self.replies.append((ts, payload))
+        if self.a.verbose:
+            print("[%.4f] reply %s" % (ts, payload.hex(" ")))
+        if self.tty_busy:
+            self.m.sched.at(t + 0.0005 * TICK_HZ, self._type)
+
+    def request_bytes(self, text):
+        """The request payload of an operator's command: start, stop, ack,
+        speed <rpm>, status, identify, or raw <hex bytes>."""
+        w = text.split()
+        if w[0] == "speed":
+            q = int(round(float(w[1]) * 32768.0 / self.speed_base_rpm))
+            return struct.pack("<Bh", fm.CMD["speed"], max(-32768, min(32767, q)))
+        if w[0] == "raw":
+            return bytes(int(x, 16) for x in w[1:])
+        return bytes([fm.CMD[w[0]]])
 
     def on_uev(self, t, at_bottom):
         self.uev_times.append(t)
@@ -245,10 +308,12 @@ class Run:
             raise SystemExit("pil: unknown scenario command %s" % cmd)
 
     def say(self, t, text):
-        """Types a command line.  Like an operator (or an expect script),
-        the terminal waits for the reply to a line before typing the next:
-        the monitor has no receive buffer and loses what arrives while it
-        is sending a reply (USART overrun, RM0008 section 27.6.1 ORE)."""
+        """Sends a monitor request (request_bytes).  Like the PC tool, it
+        waits for the reply to one request before sending the next: the
+        USART holds one received byte, and the main loop takes them as
+        they come (RM0008 section 27.6.1 ORE otherwise).  A request whose
+        text starts with "garbled " is sent with one byte of its frame
+        changed (a line error), which the monitor must drop."""
         self.tty_queue.append(text)
         if not self.tty_busy:
             self._type(t)
@@ -260,7 +325,13 @@ class Run:
         self.tty_busy = True
         text = self.tty_queue.pop(0)
         self.sent.append((t, text))
-        self.m.usart.send(t, (text + "\r").encode())
+        garbled = text.startswith("garbled ")
+        data = bytearray(fm.frame(self.request_bytes(text[8:] if garbled else text)))
+        if garbled:
+            data[2] ^= 0x40  # the first byte after the code: the CRC fails
+        self.m.usart.send(t, bytes(data))
+        if garbled:  # no reply will come: the next request after a while
+            self.m.sched.at(t + 0.005 * TICK_HZ, self._type)
 
     def run(self, events, end_s):
         """Boots the image until its banner (at most 0.1 s), then plays the
@@ -275,8 +346,8 @@ class Run:
         for t_s, cmd, args in events:
             m.sched.at((o + t_s) * TICK_HZ,
                        (lambda c, a, ts: lambda tt: self.apply(ts, c, a))(cmd, args, t_s))
-        # the firmware's own statistics, asked at the end as an operator would
-        m.sched.at((o + end_s) * TICK_HZ, lambda tt: self.say(tt, "isr"))
+        # the firmware's own status (its overrun count), asked at the end as
+        # an operator would
         m.sched.at((o + end_s) * TICK_HZ, lambda tt: self.say(tt, "status"))
         m.run((o + end_s + 0.025) * TICK_HZ)
         self.wall = time.time() - wall
@@ -372,17 +443,17 @@ def report(r, events, end, a):
         out.append(("image_isr_window_cycles", int(round(dl[len(dl) // 2]))))
     out.append(("pil_overruns", sum(x[4] for x in isr)))
     out.append(("pil_periods", len(isr)))
-    fw = [l for _, l in r.lines if l.startswith("isr ")]
-    if fw:
-        kv = dict(p.split("=") for p in fw[-1].split()[1:] if "=" in p)
-        out.append(("image_overruns", int(kv.get("overruns", -1))))
-        out.append(("image_fw_isr_avg", int(kv.get("avg", -1))))
-        out.append(("image_fw_isr_max", int(kv.get("max", -1))))
-        out.append(("image_unclean", int(kv.get("unclean", -1))))
-        out.append(("image_spurious", int(kv.get("spurious", -1))))
-        out.append(("image_breaks", int(kv.get("breaks", -1))))
+    st = [p for _, p in r.replies if p[0] == (fm.CMD["status"] | 0x80) and p[1] == 0]
+    if st:
+        f = struct.unpack_from("<BHHhhhhhhhhHHHB", st[-1], 2)
+        out.append(("image_overruns", f[12]))
+        out.append(("image_fw_cpu_load_pct", f[11] * 100.0 / 32768 if f[11] != 0xFFFF else -1.0))
+        out.append(("image_dropped_frames", f[13]))
     else:
         out.append(("image_overruns", -1))
+    # the port's count of unclean samples, read from its RAM as a debugger
+    # would (the monitor's status has no field for it)
+    out.append(("image_unclean", m.read_fw_unclean()))
     per = m.pwm_hz and TICK_HZ / m.pwm_hz / m.cpu_ticks()
     for st in STATES:
         c = [x[1] for x in isr if x[5] == st]
@@ -417,6 +488,8 @@ def report(r, events, end, a):
         with open(a.monitor_log, "w") as fh:
             for t, l in r.lines:
                 fh.write("%.6f %s\n" % (t, l))
+            for t, p in r.replies:
+                fh.write("%.6f reply %s\n" % (t, p.hex(" ")))
     return dict(out)
 
 
