@@ -388,6 +388,8 @@ FOC_COLD foc_comm_status_t foc_comm_tick(foc_comm_t *m, foc_startup_t *su, const
             }
         } else if (m->ticks >= FOC_COMM_ROTOR_SETTLE_TICKS) {
             next_step(m, FOC_COMM_STEP_RS, FOC_COMM_MODE_HOLD);
+        } else {
+            /* the rotor settles */
         }
         if (m->level != 0u) {
             su->current = FOC_COMM_I_HIGH;
@@ -451,6 +453,8 @@ FOC_COLD q15_t foc_comm_mech_tick(foc_comm_t *m, q15_t speed)
         int32_t *const window = &m->sum[(level == MECH_DOWN) ? 2 : 0];
         window[0] += iq;
         window[1] += speed;
+    } else {
+        /* MECH_SETTLE: nothing summed */
     }
     m->ticks++;
     if (m->ticks >= length) {

@@ -73,6 +73,8 @@ static void take_post(foc_ctrl_t *c)
             foc_port_pwm_disable();
         } else if (c->state != FOC_STATE_IDLE && c->state != FOC_STATE_FAULT) {
             foc_port_pwm_enable();
+        } else {
+            /* IDLE, FAULT: the bridge stays off */
         }
     } else {
         foc_cc_preset(&c->current_ctrl, c->post_v, c->est.speed);
@@ -309,6 +311,8 @@ static inline void lprobe_count(foc_ctrl_t *c)
         c->lprobe = 0;
     } else if (c->lprobe < FOC_LPROBE_DONE) {
         c->lprobe++;
+    } else {
+        /* done: the count stays */
     }
 }
 
@@ -383,7 +387,9 @@ static void current_loop(foc_ctrl_t *c, uint8_t frame)
         /* the q swing current may use what the d current leaves */
         c->v_dq.q = foc_cc_q_forced(&c->current_ctrl, forced_vq(c->startup.speed, c->i_ref_slewed.d), c->i_dq.q,
                                     c->forced_iq_max, c->v_dq.d, v_max, c->est.speed);
-    } /* FRAME_PROBE: the q voltage held; FRAME_PULSE: comm_pulse's */
+    } else {
+        /* FRAME_PROBE: the q voltage held; FRAME_PULSE: comm_pulse's */
+    }
 
     apply_voltage(c, foc_sincos_sum(sc, c->advance_sc));
 }
@@ -424,7 +430,7 @@ FOC_COLD static void commission_fast(foc_ctrl_t *c)
  * the current's angle, `turn` the angle turned per period. */
 static uint16_t probe_rotor_angle(uint16_t current, int32_t turn)
 {
-    const int32_t quarter = (turn < 0) ? -16384 : 16384;
+    const int32_t quarter = (turn < 0) ? (int32_t)-16384 : (int32_t)16384;
     return (uint16_t)((int32_t)current + quarter + turn / 2);
 }
 
@@ -503,6 +509,8 @@ FOC_COLD static uint8_t catch_probe(foc_ctrl_t *c)
         foc_port_pwm_enable(); /* duties 1/2: the short */
     } else if (j == 1u) {
         foc_port_pwm_disable();
+    } else {
+        /* the bridge stays as it is */
     }
     if (second == 0u) {
         if (j == 1u) {
@@ -511,6 +519,8 @@ FOC_COLD static uint8_t catch_probe(foc_ctrl_t *c)
         } else if (j == 2u && probe_mag2(i) > probe_mag2(c->i_ab)) {
             c->i_ab = i;
             c->probe_first = 2;
+        } else {
+            /* the first short's current stays */
         }
         if (j == 2u && probe_mag2(c->i_ab) < FOC_PROBE_MIN_MAG2) {
             c->probe = 0; /* slow: CATCH from rest */
@@ -527,6 +537,8 @@ FOC_COLD static uint8_t catch_probe(foc_ctrl_t *c)
         /* the current is back to zero: the controller takes the rotor */
         c->probe = 0;
         return PROBE_LOOP_ENABLE;
+    } else {
+        /* between the samples */
     }
     return PROBE_BUSY;
 }
@@ -621,7 +633,7 @@ static void begin_start(foc_ctrl_t *c)
 {
     c->direction = (c->req.speed < 0) ? (int8_t)-1 : (int8_t)1;
     const uint8_t on_sensor =
-        (uint8_t)(c->opt.sensored_start != 0u || c->est.kind == FOC_EST_SENSORED);
+        (uint8_t)(c->opt.sensored_start != 0u || c->est.kind == (uint8_t)FOC_EST_SENSORED);
     c->post_on_sensor = on_sensor;
     const uint8_t catching = (uint8_t)(on_sensor == 0u && c->opt.open_loop_only == 0u);
     post(c, (catching != 0u) ? FOC_POST_CATCH : FOC_POST_RESTART);
@@ -728,17 +740,19 @@ static void catch_tick(foc_ctrl_t *c)
                              foc_abs_q15(c->i_dq.q) < FOC_LPROBE_DI / 8)
                                 ? (uint8_t)(c->lprobe_req + 1u) : 1u;
             c->startup.speed = c->est.speed; /* the probe's frame turns at it */
-            if (c->state_ticks >= FOC_CATCH_MAX_TICKS + FOC_CATCH_TICKS / 2u) {
+            if (c->state_ticks >= FOC_CATCH_MAX_TICKS + (uint16_t)FOC_CATCH_TICKS / 2u) {
                 catch_run(c); /* never settled: no measure */
             }
         } else if (c->lprobe == FOC_LPROBE_DONE) {
             identify_ls(c);
             catch_run(c);
+        } else {
+            /* the probe runs */
         }
         return;
     }
     foc_speed_stats_push(&c->speed_stats, c->est.est_speed);
-    if (c->state_ticks < FOC_CATCH_TICKS) {
+    if (c->state_ticks < (uint16_t)FOC_CATCH_TICKS) {
         return;
     }
     const q15_t mean = foc_speed_stats_mean(&c->speed_stats);
@@ -783,7 +797,7 @@ static uint8_t estimator_converged(const foc_ctrl_t *c, q15_t driven)
 static uint8_t converged_long_enough(foc_ctrl_t *c, q15_t driven)
 {
     c->converged_ticks = estimator_converged(c, driven) ? (uint8_t)(c->converged_ticks + 1u) : 0u;
-    return (uint8_t)(c->converged_ticks >= STARTUP_CONV_TESTS);
+    return (uint8_t)(c->converged_ticks >= (uint16_t)STARTUP_CONV_TESTS);
 }
 
 /* On to the estimator's angle: the current reference, held in the frame
@@ -826,6 +840,8 @@ static void startup_tick(foc_ctrl_t *c)
             identify_rs(c);
             c->lprobe_req = FOC_LPROBE_GO;
             return;
+        } else {
+            /* aligning */
         }
     } else {
         const q15_t limit = (c->opt.open_loop_only != 0u) ? foc_abs_q15(c->req.speed)
@@ -892,7 +908,7 @@ static void speed_loop(foc_ctrl_t *c, q15_t target)
      * giving all it has (or off): no faster than now, and say so. */
     const uint8_t no_voltage =
         (uint8_t)((int32_t)v_mag * 64 >= (int32_t)c->bus.v_max * 63 &&
-                  (c->fw.mode == FW_MODE_OFF || id_fw <= (q15_t)(-FOC_FW_ID_MAX + FOC_FW_ID_MAX / 32)));
+                  (c->fw.mode == (uint8_t)FW_MODE_OFF || id_fw <= (q15_t)(-FOC_FW_ID_MAX + FOC_FW_ID_MAX / 32)));
     c->speed_limited = (uint8_t)(no_voltage != 0u && foc_abs_q15(target) > foc_abs_q15(c->est.speed));
     if (c->speed_limited != 0u) {
         foc_sc_hold(&c->speed_ctrl, c->est.speed);
@@ -921,7 +937,7 @@ static void stall_check(foc_ctrl_t *c, uint8_t reversal)
     if (c->est.use_sensor != 0u || c->speed_stats.count < FOC_SPEED_STATS_N) {
         return; /* nothing to check yet */
     }
-    const uint8_t in_range = foc_abs_q15(c->speed_ctrl.ramped) >= FOC_STARTUP_MIN_SPEED;
+    const uint8_t in_range = (uint8_t)(foc_abs_q15(c->speed_ctrl.ramped) >= FOC_STARTUP_MIN_SPEED);
     /* reliable, and not far below the speed asked for (an estimate that
      * settled at standstill is "reliable" too) */
     const int32_t mean = (int32_t)foc_speed_stats_mean(&c->speed_stats) * c->direction;
@@ -930,20 +946,23 @@ static void stall_check(foc_ctrl_t *c, uint8_t reversal)
                   mean >= FOC_STARTUP_MIN_SPEED / 2);
     const uint8_t motoring = (uint8_t)(((int32_t)c->i_ref.q * c->direction) > 0);
     const uint8_t emf_ok = foc_est_emf_consistent(
-        &c->est, (motoring != 0u && c->est.kind == FOC_EST_LUENBERGER)
+        &c->est, (motoring != 0u && c->est.kind == (uint8_t)FOC_EST_LUENBERGER)
                      ? FOC_STALL_EMF_RATIO_MOTORING : FOC_STALL_EMF_RATIO);
     /* the statistics' count leaks (2 up, 1 down): the estimate of a rotor
      * slipping poles looks steady for a moment each turn */
-    c->unreliable_ticks =
-        (!in_range) ? 0u
-        : reliable  ? (uint16_t)((c->unreliable_ticks != 0u) ? c->unreliable_ticks - 1u : 0u)
-                    : (uint16_t)(c->unreliable_ticks + 2u);
+    if (in_range == 0u) {
+        c->unreliable_ticks = 0u;
+    } else if (reliable != 0u) {
+        c->unreliable_ticks = (uint16_t)((c->unreliable_ticks != 0u) ? c->unreliable_ticks - 1u : 0u);
+    } else {
+        c->unreliable_ticks = (uint16_t)(c->unreliable_ticks + 2u);
+    }
     /* the flux estimator's learned flux is itself slow and slewed (tens of
      * ms to reach its range's end): no second wait (regress/2b) */
-    const uint16_t emf_low_max = (c->est.kind == FOC_EST_FLUX) ? 1u : (uint16_t)STALL_TICKS;
+    const uint16_t emf_low_max = (c->est.kind == (uint8_t)FOC_EST_FLUX) ? 1u : (uint16_t)STALL_TICKS;
     c->emf_low_ticks =
         (emf_ok != 0u || reversal != 0u) ? 0u : (uint16_t)(c->emf_low_ticks + 1u);
-    if (c->unreliable_ticks >= 2u * STALL_TICKS || c->emf_low_ticks >= emf_low_max) {
+    if (c->unreliable_ticks >= 2u * (uint16_t)STALL_TICKS || c->emf_low_ticks >= emf_low_max) {
         trip(c, (uint16_t)FOC_FAULT_SPEED_FEEDBACK);
     }
 }
@@ -985,7 +1004,7 @@ static q15_t reversal_speed_now(const foc_ctrl_t *c)
 
 static void run_tick(foc_ctrl_t *c)
 {
-    if (c->est.use_sensor != 0u && c->est.kind != FOC_EST_SENSORED &&
+    if (c->est.use_sensor != 0u && c->est.kind != (uint8_t)FOC_EST_SENSORED &&
         foc_abs_q15(c->est.speed) >= FOC_SENSORED_HANDOVER_SPEED) {
         /* Sensored start: on to the estimator once it has converged. */
         c->direction = (c->est.speed < 0) ? (int8_t)-1 : (int8_t)1;
@@ -1070,6 +1089,8 @@ static void brake_tick(foc_ctrl_t *c)
         /* it does not slow down: shorting now could exceed the current
          * limit, so let it coast */
         to_idle(c);
+    } else {
+        /* slowing down */
     }
 }
 
@@ -1164,6 +1185,8 @@ static void state_machine(foc_ctrl_t *c)
             outputs_off(c);
             c->start_ticks = 0;
             enter(c, FOC_STATE_CALIB);
+        } else {
+            /* no request */
         }
         break;
     case FOC_STATE_CALIB:
@@ -1171,6 +1194,8 @@ static void state_machine(foc_ctrl_t *c)
             enter(c, FOC_STATE_IDLE);
         } else if (c->current_sense.calibrated != 0u && c->state_ticks >= FOC_CALIB_TICKS) {
             begin_start(c);
+        } else {
+            /* calibrating */
         }
         break;
     case FOC_STATE_CATCH:
@@ -1284,7 +1309,7 @@ void foc_cmd_speed(foc_ctrl_t *c, q15_t speed)
 {
     /* never beyond the motor's maximum speed, whatever is asked, and
      * without a sensor not below the lowest speed the estimate holds */
-    const q15_t lowest = (c->est.kind == FOC_EST_SENSORED) ? 0 : c->opt.min_speed;
+    const q15_t lowest = (c->est.kind == (uint8_t)FOC_EST_SENSORED) ? 0 : c->opt.min_speed;
     c->req.speed = (speed > FOC_MAX_SPEED)                  ? FOC_MAX_SPEED
                    : (speed < -FOC_MAX_SPEED)               ? (q15_t)-FOC_MAX_SPEED
                    : (speed > 0 && speed < lowest)          ? lowest

@@ -22,7 +22,7 @@ static q15_t mean_of(int32_t sum, uint8_t log2)
 
 void foc_cs_calib_add(foc_current_sense_t *cs, const foc_samples_t *s)
 {
-    if (cs->calibrated) {
+    if (cs->calibrated != 0u) {
         return;
     }
     /* A 3-shunt port reads all three phases while the bridge is off. */

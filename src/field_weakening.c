@@ -26,9 +26,9 @@ static const q15_t ls_table[] = { FW_ENTRY_8(NOMINAL_LS, 0), FW_ENTRY_8(NOMINAL_
                                   Q15(0.5), Q15(0.5) };
 #endif
 
-FOC_STATIC_ASSERT(sizeof id_table / sizeof id_table[0] == FOC_FW_TABLE_SIZE &&
-                  sizeof invkfi_table / sizeof invkfi_table[0] == FOC_FW_TABLE_SIZE &&
-                  sizeof ls_table / sizeof ls_table[0] == FOC_FW_TABLE_SIZE,
+FOC_STATIC_ASSERT(sizeof id_table / sizeof id_table[0] == (unsigned)FOC_FW_TABLE_SIZE &&
+                  sizeof invkfi_table / sizeof invkfi_table[0] == (unsigned)FOC_FW_TABLE_SIZE &&
+                  sizeof ls_table / sizeof ls_table[0] == (unsigned)FOC_FW_TABLE_SIZE,
                   "FW_ID_TABLE, FW_INVKFI_TABLE and FW_LS_TABLE need 18 entries each");
 
 static const foc_pi_gains_t fw_gains =

@@ -96,12 +96,16 @@ static q15_t learn_radius(foc_flux_est_t *f, q15_t radial, q15_t speed_abs)
         err = RADIAL_ERR_MAX;
     } else if (err < -RADIAL_ERR_MAX) {
         err = -RADIAL_ERR_MAX;
+    } else {
+        /* within the limits */
     }
     f->psi_m = foc_add_q31(f->psi_m, (int32_t)g_mag * err * 2);
     if (f->psi_m > PSI_M_MAX) {
         f->psi_m = PSI_M_MAX;
     } else if (f->psi_m < PSI_M_MIN) {
         f->psi_m = PSI_M_MIN;
+    } else {
+        /* within the limits */
     }
     return mag;
 }

@@ -60,6 +60,8 @@ static void track_inverse(foc_luenberger_t *l, int32_t amp)
         factor = one / 4;
     } else if (factor > 7 * (one / 4)) {
         factor = 7 * (one / 4);
+    } else {
+        /* within the limits */
     }
     l->inv_amp = clamp32((l->inv_amp * (factor >> INV_Q)) >> 15, 32767);
     if (l->inv_amp < 1) {
@@ -196,6 +198,8 @@ void foc_luen_step(foc_luenberger_t *l, foc_ab_t v_last, foc_ab_t i_now)
         l->forward = 0;
     } else if (l->forward == 0u && w_out > DIR_HYST) {
         l->forward = 1;
+    } else {
+        /* within the hysteresis: the direction stays */
     }
     rotate_emf(&l->e_est, w_out);
 }

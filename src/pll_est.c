@@ -64,6 +64,8 @@ static q15_t limited_di(q15_t now, q15_t prev)
         di = FOC_DI_MAX;
     } else if (di < -(int32_t)FOC_DI_MAX) {
         di = -(int32_t)FOC_DI_MAX;
+    } else {
+        /* within the limits */
     }
     return (q15_t)di;
 }
@@ -104,6 +106,8 @@ static void update_speed_range(foc_pll_t *p)
         p->low_speed = 0;
     } else if (p->low_speed == 0u && w < FOC_PLL_LOW_SPEED) {
         p->low_speed = 1;
+    } else {
+        /* within the hysteresis: the range stays */
     }
 }
 
@@ -159,6 +163,8 @@ void foc_pll_track_flux(foc_pll_t *p)
         track = track_max;
     } else if (track < -track_max) {
         track = -track_max;
+    } else {
+        /* within the limits */
     }
     p->flux_track = track;
     p->flux_corr = (q15_t)(track >> 14);

@@ -33,6 +33,8 @@ void foc_speed_obs_step(foc_speed_obs_t *o, uint16_t theta_meas, q15_t iq_ref)
         o->load = LOAD_MAX;
     } else if (o->load < -LOAD_MAX) {
         o->load = -LOAD_MAX;
+    } else {
+        /* within the limits */
     }
     o->speed_out = foc_q31_to_q15(o->speed);
 

@@ -65,7 +65,7 @@ FOC_STATIC_ASSERT(PWM_DEADTIME_S * (double)BOARD_FCY_HZ <= 504.0,
 /* Fault A: the board's over-current comparator, active low, on RP8 (RB8,
  * pin 44), routed to FLTA1 by peripheral pin select. */
 #define BOARD_FLTA_RP 8u
-#define BOARD_FLTA_PORTB_MASK (1u << 8)
+#define BOARD_FLTA_PORTB_MASK ((uint16_t)1u << 8)
 
 /* ------------------------------------------------------------- ADC -- */
 /* Simultaneous sampling of CH0..CH3, 10-bit, signed fractional:
@@ -73,7 +73,7 @@ FOC_STATIC_ASSERT(PWM_DEADTIME_S * (double)BOARD_FCY_HZ <= 504.0,
  * CH2 = AN1 phase B current (RA1), CH3 = AN2 bus voltage (RB0).
  * Results: ADC1BUF0 = CH0 .. ADC1BUF3 = CH3. */
 #define BOARD_ADC_CH0_AN 8u
-#define BOARD_ADC_ANALOG_PINS ((1u << 0) | (1u << 1) | (1u << 2) | (1u << 8))
+#define BOARD_ADC_ANALOG_PINS ((1u << 0) | (1u << 1) | (1u << 2) | ((uint16_t)1u << 8))
 #define BOARD_ADC_BUF_POT 0u
 #define BOARD_ADC_BUF_IA 1u
 #define BOARD_ADC_BUF_IB 2u
@@ -113,10 +113,10 @@ FOC_STATIC_ASSERT((BOARD_ADC_ADCS + 1u) * 1000000000uL / BOARD_FCY_HZ >= 76u,
 
 /* ------------------------------------------------ buttons and LEDs -- */
 /* Push buttons, active low (pressed = 0): S2 on RA8, S3 on RB4. */
-#define BOARD_S2_PORTA_MASK (1u << 8)
+#define BOARD_S2_PORTA_MASK ((uint16_t)1u << 8)
 #define BOARD_S3_PORTB_MASK (1u << 4)
 /* LEDs, active high: "run" on RA10, "field-weakening range" on RA7. */
-#define BOARD_LED_RUN_LATA_MASK (1u << 10)
+#define BOARD_LED_RUN_LATA_MASK ((uint16_t)1u << 10)
 #define BOARD_LED_FW_LATA_MASK (1u << 7)
 
 /* ---------------------------------------------------- speed command -- */

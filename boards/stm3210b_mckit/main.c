@@ -87,7 +87,7 @@ static void serve_monitor(foc_ctrl_t *c)
 {
     int ch;
     while ((ch = stm32_usart_getc()) >= 0) {
-        if (monitor_feed(&monitor, (char)ch)) {
+        if (monitor_feed(&monitor, (char)ch) != 0u) {
             monitor_info_t info = { 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u };
             if (c != NULL) {
                 collect(&info);
@@ -140,14 +140,14 @@ int main(void)
         last_poll = now;
         polls++;
         const foc_state_t s = ctrl.state;
-        if (button_pressed(&key)) {
+        if (button_pressed(&key) != 0u) {
             if (s == FOC_STATE_IDLE) {
                 foc_cmd_start(&ctrl);
             } else {
                 foc_cmd_stop(&ctrl);
             }
         }
-        if (button_pressed(&sel)) {
+        if (button_pressed(&sel) != 0u) {
             foc_cmd_ack(&ctrl);
         }
         leds_show(s, polls);

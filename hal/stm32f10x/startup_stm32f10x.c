@@ -65,7 +65,7 @@ const vector_t vector_table[16 + IRQ_COUNT] = {
 
 static void bridge_off(void)
 {
-    TIM1->BDTR = (uint16_t)(TIM1->BDTR & ~TIM_BDTR_MOE);
+    TIM1->BDTR = (uint16_t)(TIM1->BDTR & (uint16_t)~TIM_BDTR_MOE);
 }
 
 /* The loops stay loops: no memcpy/memset call before .data and .bss

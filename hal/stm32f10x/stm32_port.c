@@ -28,7 +28,7 @@
 #define LEAD_COUNTS                                                            \
     ((uint16_t)(2.0 * (BOARD_ADC_SAMPLE_CYCLES + 12.5) * BOARD_SYSCLK_HZ /      \
                     BOARD_ADC_CLOCK_HZ + 0.5))
-#define SLOW_TICK_CYCLES (2ul * PWM_PERIOD * CONTROL_SLOW_DIVIDER)
+#define SLOW_TICK_CYCLES (2UL * PWM_PERIOD * (uint32_t)CONTROL_SLOW_DIVIDER)
 
 FOC_STATIC_ASSERT(PWM_PERIOD_D >= 200.0 && PWM_PERIOD_D <= 65535.0,
                   "PWM_FREQUENCY_HZ out of TIM1's range at 72 MHz (550 Hz .. 180 kHz)");
@@ -38,11 +38,11 @@ FOC_STATIC_ASSERT(PWM_PERIOD_D - PWM_PERIOD < 1e-3 * PWM_PERIOD_D &&
                   "integer within 0.1 % (the core's constants assume the exact rate)");
 FOC_STATIC_ASSERT(PWM_DEADTIME_S * BOARD_SYSCLK_HZ <= 1008.0,
                   "PWM_DEADTIME_S longer than TIM1's dead-time generator (14 us)");
-FOC_STATIC_ASSERT(TW_AFTER + 2 * TW_BEFORE < PWM_PERIOD / 2,
+FOC_STATIC_ASSERT(TW_AFTER + 2u * TW_BEFORE < PWM_PERIOD / 2u,
                   "PWM_FREQUENCY_HZ too high for the dead time and shunt settling time");
-FOC_STATIC_ASSERT(LEAD_COUNTS + TW_BEFORE < PWM_PERIOD / 2,
+FOC_STATIC_ASSERT(LEAD_COUNTS + TW_BEFORE < PWM_PERIOD / 2u,
                   "PWM_FREQUENCY_HZ too high for the four-conversion ADC sequences");
-FOC_STATIC_ASSERT(SLOW_TICK_CYCLES <= 0x1000000ul,
+FOC_STATIC_ASSERT(SLOW_TICK_CYCLES <= 0x1000000UL,
                   "CONTROL_SLOW_DIVIDER too large for SysTick at this PWM frequency");
 
 /* STM32_UPDATE_AT_TOP (1, the default; 0 for the former update-at-bottom
@@ -129,8 +129,8 @@ static void set_output_modes(uint8_t force_low_sides)
 {
     const uint16_t m1 = force_low_sides ? OC123_FORCE_LOW : OC123_PWM1;
     const uint16_t m3 = force_low_sides ? OC3_FORCE_LOW : OC3_PWM1;
-    TIM1->CCMR1 = (uint16_t)((TIM1->CCMR1 & ~(TIM_CCMR1_OC1M | TIM_CCMR1_OC2M)) | m1);
-    TIM1->CCMR2 = (uint16_t)((TIM1->CCMR2 & ~TIM_CCMR2_OC3M) | m3);
+    TIM1->CCMR1 = (uint16_t)((TIM1->CCMR1 & (uint16_t)~(TIM_CCMR1_OC1M | TIM_CCMR1_OC2M)) | m1);
+    TIM1->CCMR2 = (uint16_t)((TIM1->CCMR2 & (uint16_t)~TIM_CCMR2_OC3M) | m3);
 }
 
 static uint8_t outputs_on(void)
@@ -177,7 +177,7 @@ void foc_port_pwm_enable(void)
 void foc_port_pwm_disable(void)
 {
     const uint32_t m = irq_save();
-    TIM1->BDTR = (uint16_t)(TIM1->BDTR & ~TIM_BDTR_MOE);
+    TIM1->BDTR = (uint16_t)(TIM1->BDTR & (uint16_t)~TIM_BDTR_MOE);
     low_sides = 0u;
     set_output_modes(0u);
     apply_plan(&plan_off, 0u);
@@ -300,7 +300,7 @@ void TIM1_BRK_IRQHandler(void)
 {
     /* The hardware has already cleared MOE.  BIF stays set while the input
      * is active, so the interrupt is re-enabled only by the clear. */
-    TIM1->DIER = (uint16_t)(TIM1->DIER & ~TIM_DIER_BIE);
+    TIM1->DIER = (uint16_t)(TIM1->DIER & (uint16_t)~TIM_DIER_BIE);
     oc_latched = 1u;
     low_sides = 0u;
     set_output_modes(0u);
@@ -377,7 +377,7 @@ static uint8_t next_update_at_bottom(void)
     const uint32_t cnt = TIM1->CNT; /* 32 bits wide in STM32Cube's headers */
     const uint8_t bottom = (uint8_t)((TIM1->CR1 & TIM_CR1_DIR) == 0u && cnt < PWM_PERIOD / 2u);
     /* with STM32_UPDATE_AT_TOP the wanted end of the count is the top */
-    return (uint8_t)(STM32_UPDATE_AT_TOP ? !bottom : bottom);
+    return STM32_UPDATE_AT_TOP ? (uint8_t)(bottom == 0u) : bottom;
 }
 
 /* Starts TIM1 with its update (new compare values, TRGO) at the bottom of

@@ -729,7 +729,7 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
 #define FOC_COMM_I_LOW FOC_I_Q15(FOC_COMM_I_HIGH_A / 2.0)
 /* Means over 2^FOC_COMM_SUM_LOG2 periods (sums of Q15 within 2^27). */
 #define FOC_COMM_SUM_LOG2 12
-#define FOC_COMM_SUM_N ((uint16_t)(1u << FOC_COMM_SUM_LOG2))
+#define FOC_COMM_SUM_N ((uint16_t)((uint16_t)1u << FOC_COMM_SUM_LOG2))
 /* The currents' electrical settling before a sum, and the rotor's after
  * the alignment (as long as the alignment itself). */
 #define FOC_COMM_SETTLE_TICKS FOC_TICKS(0.03)
@@ -812,7 +812,7 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
  * current changes by 2.3 mA, 0.27 codes, between the speeds). */
 #define FOC_COMM_MECH_SUM_LOG2 \
     (BOARD_ADC_BITS >= 12 ? 13 : BOARD_ADC_BITS <= 10 ? 15 : 13 + (12 - BOARD_ADC_BITS))
-#define FOC_COMM_MECH_SUM_N ((uint16_t)(1u << FOC_COMM_MECH_SUM_LOG2))
+#define FOC_COMM_MECH_SUM_N ((uint16_t)((uint16_t)1u << (unsigned)FOC_COMM_MECH_SUM_LOG2))
 /* Kt of the parameters (Nm/A) and the accelerations (rpm/s) */
 #define FOC_KT_NM_PER_A (1.5 * MOTOR_POLE_PAIRS * FOC_FLUX_WB)
 #define FOC_COMM_MECH_ACCEL_J_RPM_S \

@@ -159,6 +159,8 @@ static inline void foc_cc_emf_feedforward(foc_current_ctrl_t *cc, q15_t speed, q
         const int32_t hi = foc_mul_q30_shift(now, emf_mant, emf_shift) + FOC_PI_Q15_TO_Q30(r_ilim);
         const int32_t cand = integ + foc_mul_q30_shift(step, emf_mant, emf_shift);
         cc->pi_q.integ = (cand <= hi) ? cand : (integ > hi) ? integ : hi;
+    } else {
+        /* speeding up, or no step: the PI follows on its own */
     }
 }
 

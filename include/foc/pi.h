@@ -63,6 +63,8 @@ static inline void foc_pi_clamp_integ(foc_pi_q15_t *pi)
         pi->integ = lo;
     } else if (pi->integ > hi) {
         pi->integ = hi;
+    } else {
+        /* within the limits */
     }
 }
 

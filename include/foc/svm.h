@@ -82,8 +82,8 @@ static inline foc_duty_t foc_svm_q15(foc_ab_t v)
     /* Largest and smallest phase (0 = a, 1 = b, 2 = c) and their values;
      * on a tie the later phase wins, which puts the alpha axis (u_b ==
      * u_c) into sectors 1 and 4. */
-    unsigned hi = (ub >= ua) ? 1u : 0u;
-    unsigned lo = (ub <= ua) ? 1u : 0u;
+    unsigned hi = (ub >= ua) ? (unsigned)1u : (unsigned)0u;
+    unsigned lo = (ub <= ua) ? (unsigned)1u : (unsigned)0u;
     int32_t u_hi = (hi != 0u) ? ub : ua;
     int32_t u_lo = (lo != 0u) ? ub : ua;
     if (uc >= u_hi) {
