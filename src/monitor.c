@@ -100,12 +100,12 @@ static void out_u64(out_t *o, uint64_t v, uint8_t min_digits)
     char digits[20];
     uint8_t n = 0;
     while (v > UINT32_MAX && n < sizeof digits) {
-        digits[n++] = (char)('0' + (char)(v % 10u));
+        digits[n++] = (char)('0' + (uint8_t)(v % 10u));
         v /= 10u;
     }
     uint32_t small = (uint32_t)v; /* 32-bit divisions for the rest */
     do {
-        digits[n++] = (char)('0' + (char)(small % 10u));
+        digits[n++] = (char)('0' + (uint8_t)(small % 10u));
         small /= 10u;
     } while (small != 0u && n < sizeof digits);
     while (n < min_digits && n < sizeof digits) {
@@ -158,7 +158,7 @@ static void out_hex16(out_t *o, uint16_t v)
     static const char hex[] = "0123456789abcdef";
     out_str(o, "0x");
     for (uint8_t digit = 0; digit < 4u; digit++) {
-        const unsigned shift = 12u - 4u * digit;
+        const unsigned shift = 12u - 4u * (unsigned)digit;
         out_char(o, hex[((unsigned)v >> shift) & 0xFu]);
     }
 }

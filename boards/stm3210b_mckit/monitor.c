@@ -3,7 +3,7 @@
 #include "foc/config.h"
 #include "foc/faults.h"
 
-#define REPLY_MAX 128
+#define REPLY_MAX 128u
 /* The replies are not time-critical: keep their helpers out of line
  * (at -O2 GCC would copy them into every caller). */
 #define OUT_OF_LINE __attribute__((noinline))
@@ -25,7 +25,7 @@ uint8_t monitor_feed(monitor_t *m, char ch)
 {
     if (ch == '\r' || ch == '\n') {
         const uint8_t complete = (uint8_t)(m->len > 0u || m->too_long);
-        m->line[m->too_long ? 0 : m->len] = '\0';
+        m->line[(m->too_long != 0u) ? 0u : m->len] = '\0';
         m->len = 0;
         m->too_long = 0;
         return complete;
@@ -46,7 +46,7 @@ OUT_OF_LINE size_t monitor_format_i32(char *buf, int32_t v)
     /* Work on the magnitude as unsigned: INT32_MIN has no positive int32. */
     uint32_t u = (v < 0) ? (uint32_t)0u - (uint32_t)v : (uint32_t)v;
     do {
-        tmp[n++] = (char)('0' + (char)(u % 10u));
+        tmp[n++] = (char)('0' + (uint8_t)(u % 10u));
         u /= 10u;
     } while (u != 0u);
     if (v < 0) {
@@ -123,7 +123,7 @@ OUT_OF_LINE static void put_value(reply_t *r, const char *key, int32_t v, uint8_
 {
     char num[12];
     put(r, key);
-    if (tenths) {
+    if (tenths != 0u) {
         const uint32_t mag = (v < 0) ? (uint32_t)0u - (uint32_t)v : (uint32_t)v;
         if (v < 0) {
             put(r, "-");
@@ -131,7 +131,7 @@ OUT_OF_LINE static void put_value(reply_t *r, const char *key, int32_t v, uint8_
         (void)monitor_format_i32(num, (int32_t)(mag / 10u));
         put(r, num);
         num[0] = '.';
-        num[1] = (char)('0' + (char)(mag % 10u));
+        num[1] = (char)('0' + (uint8_t)(mag % 10u));
         num[2] = '\0';
     } else {
         (void)monitor_format_i32(num, v);
@@ -219,18 +219,24 @@ monitor_action_t monitor_execute(const char *line, foc_ctrl_t *c,
     monitor_action_t action = MONITOR_NO_ACTION;
     const size_t n = split(line, words);
     unsigned cmd = 0;
-    while (cmd < CMD_COUNT && !same(words[0], command_names[cmd])) {
+    while (cmd < (unsigned)CMD_COUNT && !same(words[0], command_names[cmd])) {
         cmd++;
     }
     /* Commands that act on the motor need it; all but speed and isr take
      * no argument. */
-    const uint8_t args_ok = (uint8_t)(cmd == CMD_SPEED ? n == 2u
-                                      : cmd == CMD_ISR ? n <= 2u : n == 1u);
+    uint8_t args_ok = (uint8_t)(n == 1u);
+    if (cmd == (unsigned)CMD_SPEED) {
+        args_ok = (uint8_t)(n == 2u);
+    } else if (cmd == (unsigned)CMD_ISR) {
+        args_ok = (uint8_t)(n <= 2u);
+    } else {
+        /* no argument */
+    }
     r.len = 0;
     r.buf[0] = '\0';
-    if (cmd == CMD_COUNT || !args_ok) {
-        put(&r, cmd == CMD_SPEED ? "err speed <rpm>" : "err unknown command");
-    } else if (c == NULL && cmd <= CMD_SPEED) {
+    if (cmd == (unsigned)CMD_COUNT || !args_ok) {
+        put(&r, cmd == (unsigned)CMD_SPEED ? "err speed <rpm>" : "err unknown command");
+    } else if (c == NULL && cmd <= (unsigned)CMD_SPEED) {
         put(&r, "err clock fault: motor disabled");
     } else {
         const char *reply = "ok";
@@ -246,7 +252,7 @@ monitor_action_t monitor_execute(const char *line, foc_ctrl_t *c,
             foc_cmd_ack(c);
             break;
         case CMD_SPEED:
-            if (monitor_parse_i32(words[1], &rpm)) {
+            if (monitor_parse_i32(words[1], &rpm) != 0u) {
                 foc_cmd_speed(c, monitor_rpm_to_speed(rpm));
             } else {
                 reply = "err speed <rpm>";
@@ -260,7 +266,7 @@ monitor_action_t monitor_execute(const char *line, foc_ctrl_t *c,
             if (n == 1u) {
                 isr(&r, info);
                 reply = "";
-            } else if (same(words[1], "reset")) {
+            } else if (same(words[1], "reset") != 0u) {
                 action = MONITOR_RESET_ISR_STATS;
             } else {
                 reply = "err unknown command";

@@ -22,7 +22,7 @@
 #include <stdint.h>
 #include "foc/controller.h"
 
-#define MONITOR_LINE_MAX 40
+#define MONITOR_LINE_MAX 40u
 
 typedef void (*monitor_write_fn)(const char *s);
 

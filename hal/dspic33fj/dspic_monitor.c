@@ -9,7 +9,7 @@ void dspic_mon_init(dspic_mon_t *m)
 
 static char to_lower(char c)
 {
-    return (c >= 'A' && c <= 'Z') ? (char)(c - 'A' + 'a') : c;
+    return (c >= 'A' && c <= 'Z') ? (char)('a' + (uint8_t)(c - 'A')) : c;
 }
 
 uint8_t dspic_mon_feed(dspic_mon_t *m, char c, dspic_mon_cmd_t *cmd)
@@ -22,6 +22,8 @@ uint8_t dspic_mon_feed(dspic_mon_t *m, char c, dspic_mon_cmd_t *cmd)
         } else if (had_text != 0u) {
             m->line[m->len] = '\0';
             *cmd = dspic_mon_parse(m->line);
+        } else {
+            /* an empty line: nothing to parse */
         }
         dspic_mon_init(m);
         if (had_text != 0u && cmd->kind == DSPIC_MON_NONE) {
@@ -168,7 +170,7 @@ void dspic_mon_put_int(char *buf, size_t size, size_t *len, int32_t v)
     char out[13];
     uint8_t k = 0;
     do {
-        tmp[n] = (char)('0' + (char)(mag % 10u));
+        tmp[n] = (char)('0' + (uint8_t)(mag % 10u));
         n++;
         mag /= 10u;
     } while (mag != 0u);
