@@ -3,7 +3,7 @@
 #include "foc/trig.h"
 
 /* Load estimate limit: the current base, Q27. */
-#define LOAD_MAX ((int32_t)1 << 27)
+#define LOAD_MAX ((int32_t)0x08000000) /* 2^27 */
 
 /* Q27 load -> Q15, rounded (|load| <= 2^27). */
 static q15_t load_q15(int32_t load)

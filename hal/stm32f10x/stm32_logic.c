@@ -35,7 +35,7 @@ uint8_t stm32_unread_phase(uint8_t sector)
 uint32_t stm32_jsqr(const uint8_t *ch, uint8_t n)
 {
     /* n conversions use JSQ(5-n)..JSQ4 (RM0008, ADC_JSQR), 5 bits each. */
-    uint32_t v = (uint32_t)(n - 1u) << 20;
+    uint32_t v = ((uint32_t)n - 1u) << 20;
     for (uint8_t i = 0; i < n; i++) {
         const uint32_t slot = (uint32_t)4u - n + i;
         v |= ((uint32_t)ch[i] & 0x1Fu) << (5u * slot);

@@ -1098,8 +1098,8 @@ FOC_STATIC_ASSERT(FOC_PROBE_SPACING * FOC_DTHETA_AT_BASE * MOTOR_MAX_SPEED_RPM *
 #define FOC_I2T_MANT FOC_NORM_MANT(FOC_I2T_X)
 #define FOC_I2T_RSHIFT FOC_NORM_RSHIFT(FOC_I2T_X)
 #define FOC_I2T_K_Q30 ((int32_t)(FOC_SLOW_TS_S / MOTOR_THERMAL_TIME_S * 1073741824.0 + 0.5))
-#define FOC_I2T_TRIP ((int32_t)1 << 20)
-#define FOC_I2T_CLEAR ((int32_t)1 << 19)
+#define FOC_I2T_TRIP ((int32_t)0x100000) /* 2^20 */
+#define FOC_I2T_CLEAR ((int32_t)0x80000) /* 2^19 */
 /* A rotor that does not follow: the speed loop at its current limit, the
  * speed below 7/8 of the command and not gaining on it, for this long
  * (two windows, above and below 10 % of the maximum speed; the speed loop
