@@ -15,7 +15,7 @@
  * integrator's range. */
 #define INV_Q 9u
 #define INV_ONE ((int32_t)1 << INV_Q)
-#define AMP_MIN ((int32_t)(32768 / 64))
+#define AMP_MIN ((int32_t)512) /* 32768 / 64 */
 #define DIR_HYST ((q15_t)AMP_MIN)
 
 static int32_t clamp32(int32_t x, int32_t max)
