@@ -201,6 +201,7 @@ static q15_t forced_vq(q15_t speed, q15_t id)
 static FOC_ALWAYS_INLINE uint8_t current_lost(foc_ab_t i)
 {
     return (uint8_t)((uint32_t)((int32_t)i.alpha * i.alpha) + (uint32_t)((int32_t)i.beta * i.beta) >
+                     /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
                      FOC_CURRENT_TRIP_SQ_Q30);
 }
 
@@ -214,12 +215,17 @@ static FOC_ALWAYS_INLINE foc_ab_t applied_voltage(const foc_ctrl_t *c, foc_ab_t 
                                        foc_ab_t i_last, foc_ab_t i_now)
 {
     foc_ab_t v = v_prev;
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     if (FOC_V_NEW_WEIGHT != 0) {
+        /* cppcheck-suppress [misra-c2012-10.1, misra-c2012-10.8] ; D1 Q-format shift, D2 compile-time constant */
         v.alpha = (q15_t)(v.alpha + ((((int32_t)v_last.alpha - v.alpha) * FOC_V_NEW_WEIGHT) >> 15));
+        /* cppcheck-suppress [misra-c2012-10.1, misra-c2012-10.8] ; D1 Q-format shift, D2 compile-time constant */
         v.beta = (q15_t)(v.beta + ((((int32_t)v_last.beta - v.beta) * FOC_V_NEW_WEIGHT) >> 15));
     }
     if (c->opt.deadtime_comp != 0u) {
+        /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
         const foc_ab_t i_mid = { (q15_t)(((int32_t)i_last.alpha + i_now.alpha) >> 1),
+                                 /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
                                  (q15_t)(((int32_t)i_last.beta + i_now.beta) >> 1) };
         const foc_ab_t err = foc_deadtime_error_ab(foc_iclarke_q15(i_mid));
         v.alpha = foc_add_q15(v.alpha, err.alpha);
@@ -359,6 +365,7 @@ static void current_loop(foc_ctrl_t *c, uint8_t frame)
     }
 
     const foc_ab_t v_applied = applied_voltage(c, c->v_ab_prev, c->v_ab, i_last, c->i_ab);
+    /* cppcheck-suppress misra-c2012-9.2 ; F analyser false positive */
     const foc_est_input_t in = { v_applied, c->i_ab, c->i_ref_slewed.q, c->samples.theta_sensor };
     foc_est_step(&c->est, &in);
     c->v_ab_prev = c->v_ab;
@@ -431,12 +438,14 @@ FOC_COLD static void commission_fast(foc_ctrl_t *c)
 static uint16_t probe_rotor_angle(uint16_t current, int32_t turn)
 {
     const int32_t quarter = (turn < 0) ? (int32_t)-16384 : (int32_t)16384;
+    /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
     return (uint16_t)((int32_t)current + quarter + turn / 2);
 }
 
 /* Squared magnitude of a current, Q30 / 4 (<= 2^29). */
 static int32_t probe_mag2(foc_ab_t i)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
     return (int32_t)(((uint32_t)((int32_t)i.alpha * i.alpha) + (uint32_t)((int32_t)i.beta * i.beta)) >> 2);
 }
 
@@ -453,10 +462,12 @@ static uint8_t probe_take(foc_ctrl_t *c, foc_ab_t i)
     const int32_t m2 = probe_mag2(i);
     const uint16_t angle = foc_atan2_q15(i.beta, i.alpha);
     const int32_t turn = (int32_t)foc_angle_diff(angle, foc_atan2_q15(c->i_ab.beta, c->i_ab.alpha)) /
+                         /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
                          (int32_t)FOC_PROBE_SPACING; /* per period */
     const q15_t speed = foc_mul_q15_shift((q15_t)turn, FOC_PROBE_SPEED_MANT, FOC_PROBE_SPEED_SHIFT);
     /* a factor 2 in magnitude is 4 in the squares (each <= 2^29: compared
      * as a quarter, 4 x 2^29 would overflow) */
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     if ((m1 >> 2) > m2 || (m2 >> 2) > m1 || foc_abs_q15(speed) < FOC_STARTUP_MIN_SPEED) {
         return 0;
     }
@@ -689,6 +700,7 @@ static void identify_ls(foc_ctrl_t *c)
         return; /* not held: no measure */
     }
     const int32_t ratio = ((int32_t)FOC_LPROBE_DI * 16384) / dip -
+                          /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
                           ((FOC_LPROBE_RT_Q14 * (int32_t)c->est.rs_ratio) >> 14);
     foc_est_set_ls(&c->est, measured_ratio(ratio));
 }
@@ -758,7 +770,9 @@ static void catch_tick(foc_ctrl_t *c)
     const q15_t mean = foc_speed_stats_mean(&c->speed_stats);
     const uint8_t turning = (uint8_t)(foc_abs_q15(mean) >= FOC_STARTUP_MIN_SPEED);
     if (turning != 0u &&
+        /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
         foc_speed_stats_reliable(&c->speed_stats, FOC_STARTUP_VARIANCE_THRESHOLD) &&
+        /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
         foc_est_emf_consistent(&c->est, FOC_STALL_EMF_RATIO)) {
         c->direction = (mean < 0) ? (int8_t)-1 : (int8_t)1;
         if ((int32_t)foc_abs_q15(c->est.speed) <= FOC_LPROBE_SPEED_MAX) {
@@ -788,8 +802,11 @@ static uint8_t estimator_converged(const foc_ctrl_t *c, q15_t driven)
     const int32_t forced = (int32_t)foc_abs_q15(driven);
     return (uint8_t)(foc_speed_stats_reliable(&c->speed_stats, FOC_STARTUP_VARIANCE_THRESHOLD) &&
                      mean >= FOC_STARTUP_MIN_SPEED &&
+                     /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
                      mean * 256 >= forced * FOC_STARTUP_WINDOW_MIN_Q8 &&
+                     /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
                      mean * 256 <= forced * FOC_STARTUP_WINDOW_MAX_Q8 &&
+                     /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
                      foc_est_emf_consistent(&c->est, FOC_STALL_EMF_RATIO));
 }
 
@@ -872,6 +889,7 @@ static q15_t salient_id(const foc_ctrl_t *c, q15_t id_fw, q15_t iq)
     if (!FOC_SALIENT || c->fw.mtpa == 0u) {
         return id_fw;
     }
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     const q15_t id_mtpa = foc_mtpa_id_q15(iq, FOC_MTPA_K_Q12);
     return (id_mtpa < id_fw) ? id_mtpa : id_fw;
 }
@@ -896,8 +914,10 @@ static void speed_loop(foc_ctrl_t *c, q15_t target)
 {
     /* TUNING: the reference creeps toward the command. */
     c->speed_ctrl.target = target;
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     c->speed_ctrl.step15 = (c->opt.tuning != 0u) ? FOC_TUNING_RAMP_STEP15
                            : (c->comm.step == (uint8_t)FOC_COMM_STEP_MECH) ? FOC_COMM_MECH_RAMP_STEP15
+                                                                         /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
                                                                          : FOC_SPEED_RAMP_STEP15;
     const q15_t v_mag = foc_mag_q15(c->v_dq.d, c->v_dq.q);
     const q15_t id_fw = foc_fw_step(&c->fw, c->speed_ctrl.ramped, v_mag, c->bus.v_max);
@@ -947,6 +967,7 @@ static void stall_check(foc_ctrl_t *c, uint8_t reversal)
     const uint8_t motoring = (uint8_t)(((int32_t)c->i_ref.q * c->direction) > 0);
     const uint8_t emf_ok = foc_est_emf_consistent(
         &c->est, (motoring != 0u && c->est.kind == (uint8_t)FOC_EST_LUENBERGER)
+                     /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
                      ? FOC_STALL_EMF_RATIO_MOTORING : FOC_STALL_EMF_RATIO);
     /* the statistics' count leaks (2 up, 1 down): the estimate of a rotor
      * slipping poles looks steady for a moment each turn */
@@ -1192,7 +1213,7 @@ static void state_machine(foc_ctrl_t *c)
     case FOC_STATE_CALIB:
         if (c->req.stop != 0u) {
             enter(c, FOC_STATE_IDLE);
-        } else if (c->current_sense.calibrated != 0u && c->state_ticks >= FOC_CALIB_TICKS) {
+        } else if (c->current_sense.calibrated != 0u && c->state_ticks >= FOC_CALIB_TICKS) { /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
             begin_start(c);
         } else {
             /* calibrating */
@@ -1224,6 +1245,7 @@ static void state_machine(foc_ctrl_t *c)
             c->start_ticks = 0;
         }
         if ((foc_abs_q15(c->speed_ctrl.ramped) <= stop_speed &&
+             /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
              foc_abs_q15(c->est.speed) <= stop_speed + (stop_speed >> 2)) ||
             c->start_ticks >= FOC_STOP_SETTLE_TICKS || c->state_ticks >= FOC_RAMP_DOWN_TICKS) {
             to_idle(c);

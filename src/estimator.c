@@ -73,6 +73,7 @@ void foc_est_set_ls(foc_estimator_t *est, q15_t ratio_q14)
 {
     est->ls_ratio = ratio_q14;
     if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == (uint8_t)FOC_EST_PLL) {
+        /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
         foc_pll_set_ls_scale(&est->u.pll, Q15(0.5), ratio_q14);
     } else if (FOC_EST_BUILT(FOC_EST_FLUX) && est->kind == (uint8_t)FOC_EST_FLUX) {
         foc_flux_set_ls(&est->u.flux, ratio_q14);

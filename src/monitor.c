@@ -378,17 +378,29 @@ typedef struct {
 #define IDENT_ROW(key, x, decimals, factor, measured) { (key), (int64_t)((x) * (factor) + 0.5), (decimals), (measured) }
 
 static const ident_row_t ident_rows[] = {
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     IDENT_ROW("pole_pairs", MOTOR_POLE_PAIRS, 0u, 1.0, IDENT_NONE),
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     IDENT_ROW("rs_ohm", MOTOR_RS_OHM, 9u, 1e9, IDENT_RS),
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     IDENT_ROW("ld_h", MOTOR_LD_H, 9u, 1e9, IDENT_LD),
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     IDENT_ROW("lq_h", MOTOR_LQ_H, 9u, 1e9, IDENT_LQ),
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     IDENT_ROW("flux_linkage_wb", FOC_FLUX_WB, 9u, 1e9, IDENT_FLUX),
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     IDENT_ROW("nominal_speed_rpm", MOTOR_NOMINAL_SPEED_RPM, 3u, 1e3, IDENT_NONE),
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     IDENT_ROW("max_speed_rpm", MOTOR_MAX_SPEED_RPM, 3u, 1e3, IDENT_NONE),
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     IDENT_ROW("rated_current_a_peak", MOTOR_RATED_CURRENT_A, 3u, 1e3, IDENT_NONE),
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     IDENT_ROW("max_current_a_peak", CURRENT_LIMIT_A, 3u, 1e3, IDENT_NONE),
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     IDENT_ROW("inertia_kgm2", MOTOR_INERTIA_KGM2, 12u, 1e12, IDENT_J),
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     IDENT_ROW("viscous_nm_per_krpm", MOTOR_VISCOUS_NM_PER_KRPM, 12u, 1e12, IDENT_VISCOUS),
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     IDENT_ROW("coulomb_nm", MOTOR_COULOMB_NM, 9u, 1e9, IDENT_COULOMB),
 };
 
@@ -411,6 +423,7 @@ FOC_STATIC_ASSERT(IDENT_VISCOUS_PER_SUM < 64.0 && IDENT_COULOMB_PER_SUM < 64.0,
  * 2^53. */
 static int64_t ident_scaled(int64_t value, int32_t ratio_q14)
 {
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     return (value >> 14) * ratio_q14 + (((value & 16383) * ratio_q14 + 8192) >> 14);
 }
 
@@ -423,6 +436,7 @@ static int64_t ident_friction(const foc_comm_t *r, uint8_t which)
     /* |sum| < 2^31: the slope's sum, or the line's at zero speed */
     const int64_t sum = (which == IDENT_VISCOUS) ? high - low
                                                  : div_round(low * dw - (high - low) * FOC_COMM_MECH_LOW, dw);
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     const int64_t den = (which == IDENT_VISCOUS) ? IDENT_DEN(IDENT_VISCOUS_PER_SUM) : IDENT_DEN(IDENT_COULOMB_PER_SUM);
     const int64_t v = div_round(r->flux_q14 * sum * 65536, den);
     return (v > 0) ? v : 0;
@@ -533,6 +547,7 @@ static void cmd_timing(const call_t *k)
     if (t->clock_hz != 0u) {
         /* share of the PWM period, avg / (clock / f_pwm), in 0.1 %:
          * avg x f_pwm x 1000 / clock, f_pwm x 1000 being PWM_RATE_MHZ */
+        /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
         const int64_t load = div_round((int64_t)avg * PWM_RATE_MHZ, (int64_t)t->clock_hz);
         out_key(o, "load_pct");
         out_fixed(o, load, 1u, 0u);
@@ -613,6 +628,7 @@ static void out_scope_config(out_t *o, const foc_scope_t *s)
     out_key(o, "decim");
     out_u64(o, s->decim, 1u);
     out_key(o, "dt_s");
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     out_fixed(o, PWM_PERIOD_PS * (int64_t)s->decim, 12u, 1u);
     out_key(o, "trigger");
     if (s->edge == (uint8_t)FOC_TRIG_IMMEDIATE) {

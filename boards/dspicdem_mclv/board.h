@@ -48,12 +48,15 @@ FOC_STATIC_ASSERT(BOARD_PLL_N2 == 2u, "main.c sets PLLPOST for N2 = 2 only");
 #define BOARD_PTPER ((uint16_t)(BOARD_FCY_HZ / (2u * BOARD_PWM_HZ) - 1u))
 #define BOARD_DEADTIME_TCY ((uint16_t)(PWM_DEADTIME_S * (double)BOARD_FCY_HZ + 0.5))
 
+/* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
 FOC_STATIC_ASSERT(BOARD_FCY_HZ % (2u * BOARD_PWM_HZ) == 0u,
                   "PWM_FREQUENCY_HZ: Fcy / (2 Fpwm) must be a whole number "
                   "of instruction cycles");
+/* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
 FOC_STATIC_ASSERT(BOARD_FCY_HZ / (2u * BOARD_PWM_HZ) >= 3u &&
                   BOARD_FCY_HZ / (2u * BOARD_PWM_HZ) <= 0x7FFFu,
                   "PWM_FREQUENCY_HZ out of the MCPWM period range");
+/* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
 FOC_STATIC_ASSERT(PWM_DEADTIME_S * (double)BOARD_FCY_HZ <= 504.0,
                   "PWM_DEADTIME_S above 63 x 8 Tcy");
 
@@ -130,6 +133,7 @@ FOC_STATIC_ASSERT((BOARD_ADC_ADCS + 1u) * 1000000000uL / BOARD_FCY_HZ >= 76u,
 
 FOC_STATIC_ASSERT(SPEED_BASE_RPM >= 1.0 && SPEED_BASE_RPM <= 65535.0,
                   "the monitor converts rpm with SPEED_BASE_RPM in 1..65535");
+/* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
 FOC_STATIC_ASSERT(BOARD_POT_MIN_RPM <= BOARD_POT_MAX_RPM &&
                   BOARD_POT_MAX_RPM <= BOARD_POT_MAX_FW_RPM,
                   "BOARD_POT_MIN_RPM must not exceed MOTOR_NOMINAL_SPEED_RPM");

@@ -60,6 +60,7 @@ static void tx_flush(void)
 /* -------------------------------------------------------- speed command -- */
 static int32_t range_max_rpm(void)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     return (fw_range != 0u) ? BOARD_POT_MAX_FW_RPM : BOARD_POT_MAX_RPM;
 }
 
@@ -67,18 +68,21 @@ static void command_speed(int32_t rpm)
 {
     const int32_t max = range_max_rpm();
     ref_rpm = (rpm > max) ? max : (rpm < -max) ? -max : rpm;
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     foc_cmd_speed(&ctrl, dspic_rpm_to_q15(ref_rpm, BOARD_SPEED_BASE_RPM));
 }
 
 /* ------------------------------------------------------------- monitor -- */
 static uint32_t ticks_to_ns(uint16_t ticks)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     return (uint32_t)ticks * 1000u / (uint32_t)(BOARD_TIMESTAMP_HZ / 1000000uL);
 }
 
 /* Q15 of the current full scale -> mA (|q| x 4400 < 2^31). */
 static int32_t q15_to_ma(q15_t q)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     return ((int32_t)q * (int32_t)(BOARD_CURRENT_FULL_SCALE_A * 1000.0 + 0.5)) / 32768;
 }
 
@@ -92,11 +96,13 @@ static void send_status(void)
     s.state = foc_state_name(ctrl.state);
     s.faults = ctrl.faults.active;
     s.first_fault = foc_fault_name(ctrl.faults.first);
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     s.speed_rpm = dspic_q15_to_rpm(ctrl.est.speed, BOARD_SPEED_BASE_RPM);
     s.ref_rpm = ref_rpm;
     s.id_ma = q15_to_ma(ctrl.i_dq.d);
     s.iq_ma = q15_to_ma(ctrl.i_dq.q);
     s.vdc_mv = (vdc < 0) ? 0u
+                         /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
                          : ((uint32_t)vdc * (uint32_t)(BOARD_VDC_FULL_SCALE_V * 1000.0 + 0.5)) >> 15;
     s.isr_min_ns = (st.min == 0xFFFFu) ? 0u : ticks_to_ns(st.min);
     s.isr_avg_ns = ticks_to_ns(st.avg);

@@ -45,6 +45,7 @@ int32_t mclv_pot_to_rpm(q15_t pot, int32_t min_rpm, int32_t max_rpm)
         return min_rpm;
     }
     /* span <= 65535, pot <= 32767: the product < 2^31 */
+    /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
     const uint32_t span = (uint32_t)(max_rpm - min_rpm);
     return min_rpm + (int32_t)(((uint32_t)pot * span) >> 15);
 }

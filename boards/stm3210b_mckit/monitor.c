@@ -83,24 +83,31 @@ uint8_t monitor_parse_i32(const char *s, int32_t *v)
     if (!negative && u > 2147483647u) {
         return 0;
     }
+    /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
     *v = negative ? (int32_t)(0u - u) : (int32_t)u;
     return 1;
 }
 
 q15_t monitor_rpm_to_speed(int32_t rpm)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     if (rpm > SPEED_BASE) {
+        /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
         rpm = SPEED_BASE;
     }
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     if (rpm < -SPEED_BASE) {
+        /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
         rpm = -SPEED_BASE;
     }
     /* |rpm| x 32768 <= 65535 x 32768 < 2^31. */
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     return foc_sat_q15(rpm * 32768 / SPEED_BASE);
 }
 
 int32_t monitor_speed_to_rpm(q15_t speed)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     return (int32_t)speed * SPEED_BASE / 32768;
 }
 
@@ -128,6 +135,7 @@ OUT_OF_LINE static void put_value(reply_t *r, const char *key, int32_t v, uint8_
         if (v < 0) {
             put(r, "-");
         }
+        /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
         (void)monitor_format_i32(num, (int32_t)(mag / 10u));
         put(r, num);
         num[0] = '.';
@@ -153,6 +161,7 @@ OUT_OF_LINE static void status(reply_t *r, const foc_ctrl_t *c)
     put(r, foc_fault_name(c->faults.first));
     put_value(r, " rpm=", monitor_speed_to_rpm(c->est.speed), 0);
     put_value(r, " ref=", monitor_speed_to_rpm(c->req.speed), 0);
+    /* cppcheck-suppress [misra-c2012-10.1, misra-c2012-10.8] ; D1 Q-format shift, D2 compile-time constant */
     put_value(r, " vdc=", ((int32_t)c->samples.vdc * VDC_DECIVOLT_K) >> 16, 1);
 }
 

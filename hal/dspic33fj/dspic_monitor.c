@@ -9,6 +9,7 @@ void dspic_mon_init(dspic_mon_t *m)
 
 static char to_lower(char c)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
     return (c >= 'A' && c <= 'Z') ? (char)('a' + (uint8_t)(c - 'A')) : c;
 }
 
@@ -253,6 +254,7 @@ q15_t dspic_rpm_to_q15(int32_t rpm, int32_t base_rpm)
     }
     /* mag < base <= 65535: mag x 32768 < 2^31 */
     const uint32_t base = (uint32_t)base_rpm;
+    /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
     const int32_t q = (int32_t)((mag * 32768u + base / 2u) / base);
     return foc_sat_q15((neg != 0u) ? -q : q);
 }

@@ -283,6 +283,7 @@ void stm32_plan_all_phases_four(stm32_plan_t *p, const stm32_timing_t *t,
 
 q15_t stm32_current_from_jdr(uint32_t jdr, uint8_t inverted)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
     int32_t v = (int32_t)(jdr & 0x7FFFu) - JDR_MID;
     if (inverted != 0u) {
         v = -v;
@@ -292,6 +293,7 @@ q15_t stm32_current_from_jdr(uint32_t jdr, uint8_t inverted)
 
 q15_t stm32_unipolar_from_jdr(uint32_t jdr)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
     return (q15_t)(jdr & 0x7FFFu);
 }
 
@@ -393,6 +395,7 @@ uint32_t stm32_deadtime_counts(uint8_t dtg)
 
 uint16_t stm32_debug_ccr(q15_t v, uint16_t arr)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
     const uint32_t u = (uint32_t)((int32_t)v + 32768); /* 0..65535 */
     return (uint16_t)((u * ((uint32_t)arr + 1u)) >> 16);
 }
