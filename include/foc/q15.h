@@ -132,12 +132,10 @@ static inline int32_t foc_mul_q30_shift(q15_t a, q15_t b, uint8_t shift)
     /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const int32_t limit = ((int32_t)1 << 30) >> shift;
     if (p > limit) {
-        /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-        return (int32_t)1 << 30;
+        return (int32_t)0x40000000; /* 2^30 */
     }
     if (p < -limit) {
-        /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-        return -((int32_t)1 << 30);
+        return -(int32_t)0x40000000;
     }
     /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     return p * ((int32_t)1 << shift);

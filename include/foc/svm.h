@@ -109,8 +109,7 @@ static inline foc_duty_t foc_svm_q15(foc_ab_t v)
      * a 32/16-bit division (span <= sqrt(2) < 2^16 in Q15, quotient
      * < 2^15). */
     foc_duty_t out;
-    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-    if (span > ((int32_t)1 << 30)) {
+    if (span > (int32_t)0x40000000) { /* 2^30 */
         const int32_t gain =
             /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
             (int32_t)((uint32_t)1 << 30) / (int32_t)((span + 0x4000) >> 15);
