@@ -21,6 +21,7 @@ static void derive_limits(foc_bus_t *bus)
     if (comp < COMP_ONE_Q14) {
         comp = COMP_ONE_Q14;
     }
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     bus->v_max = (q15_t)(((int32_t)FOC_VOLTAGE_LIMIT * COMP_ONE_Q14) / comp);
 }
 
@@ -32,6 +33,7 @@ void foc_bus_init(foc_bus_t *bus, q15_t vdc)
 
 void foc_bus_update(foc_bus_t *bus, q15_t vdc)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     (void)foc_lpf_step(&bus->vdc, vdc, FOC_VDC_FILTER_K);
     derive_limits(bus);
 }

@@ -101,6 +101,7 @@ FOC_COLD q15_t foc_comm_pulse(foc_comm_t *m, q15_t i_axis, q15_t i_hold)
             m->cycles++;
         }
     } else {
+        /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
         m->phase = (uint8_t)(k + 1);
     }
     const q15_t dv = (m->mode == (uint8_t)FOC_COMM_MODE_PULSE_D) ? FOC_COMM_PULSE_DV_D : FOC_COMM_PULSE_DV_Q;
@@ -138,6 +139,7 @@ FOC_COLD static int32_t div_frac(int32_t num, int32_t den, uint8_t bits, int32_t
  * result fits 32 bits (an arithmetic shift: floor, as GCC and XC16 do). */
 FOC_COLD static int32_t mul_shift(int32_t a, int32_t b, uint8_t shift)
 {
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     return (int32_t)(((int64_t)a * b) >> shift);
 }
 
@@ -155,6 +157,7 @@ static uint8_t plausible(int32_t r)
 /* Mean of a sum of FOC_COMM_SUM_N Q15 values, rounded (Q15). */
 static int32_t mean_q15(int32_t sum)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     return (sum + (int32_t)(FOC_COMM_SUM_N / 2u)) / (int32_t)FOC_COMM_SUM_N;
 }
 
@@ -167,6 +170,7 @@ FOC_COLD static int32_t inductance_q14(const foc_comm_t *m, int32_t sum_param, i
     /* Ts Rs / L_param (Q20, < 2^20) x the Rs ratio (Q14, < 2^15): Q20
      * below 2^21; times sum[1] x 8 (|sum[1]| < 2^31) in a 64-bit product,
      * < 2^55, back to the regression sum's scale by 2^20 */
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const int64_t rs_share = ((int64_t)mul_shift(ts_tau_q20, m->rs_q14, 14) * m->sum[1] * 8) >> 20;
     const int64_t num = (int64_t)sum_param - rs_share; /* sum_param < 2^29 */
     return ratio_q14((num > INT32_MAX) ? INT32_MAX : (int32_t)num, m->sum[0]);
@@ -192,12 +196,15 @@ FOC_COLD static int32_t flux_q14(const foc_comm_t *m, q15_t speed)
     /* the measured Rs and w Lq at this speed, Q20 per-unit, each below
      * 2^31: the parameters below 1000 per-unit (config.h), the ratios
      * below 2, the speed below 1 */
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     const int32_t rs_q20 = mul_shift(FOC_COMM_RS_Q20, m->rs_q14, 14);
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     const int32_t xq_q20 = mul_shift(mul_shift(FOC_COMM_XQ_Q20, speed, 15), m->lq_q14, 14);
     /* each term below 2^31 x 2^15 / 2^20 = 2^26 */
     const int32_t ex = sat_q15(vx - mul_shift(rs_q20, ix, 20) + mul_shift(xq_q20, iy, 20));
     const int32_t ey = sat_q15(vy - mul_shift(rs_q20, iy, 20) - mul_shift(xq_q20, ix, 20));
     /* each square below 2^30: the sum fits 32 bits unsigned */
+    /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
     const int32_t e = (int32_t)foc_isqrt32((uint32_t)(ex * ex) + (uint32_t)(ey * ey));
     if (e <= 0 || speed <= 0) {
         return 0;
@@ -207,6 +214,7 @@ FOC_COLD static int32_t flux_q14(const foc_comm_t *m, q15_t speed)
     const int32_t id_rotor = ((int32_t)ix * ey - (int32_t)iy * ex) / e;
     /* Xd Ld_ratio - Xq Lq_ratio, Q20: both terms in [0, 2^31), so is
      * the difference's magnitude; times id_rotor (< 2^16) / 2^20: < 2^27 */
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     const int32_t xdq_q20 = mul_shift(FOC_COMM_XD_Q20, m->ld_q14, 14) - mul_shift(FOC_COMM_XQ_Q20, m->lq_q14, 14);
     const int32_t reluctance_q15 = mul_shift(xdq_q20, id_rotor, 20);
     /* |E| / w, Q15 per-unit flux, held below 2^30: the difference fits */
@@ -277,6 +285,7 @@ static foc_comm_status_t rs_tick(foc_comm_t *m, foc_startup_t *su)
     /* Rs per-unit, Q20 (< 2^31 while within 2 x the parameter: config.h
      * holds FOC_RS_PU below 1000), then its ratio to the parameter */
     const int32_t rs_q20 = div_frac(m->u.rs.v_high - m->sum[0], di, 20, INT32_MAX);
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     const int32_t r = ratio_q14(rs_q20, FOC_COMM_RS_Q20);
     if (plausible(r) == 0u) {
         return fail(m);
@@ -293,7 +302,9 @@ static foc_comm_status_t inductance_tick(foc_comm_t *m, foc_startup_t *su)
     if (measured(m, FOC_COMM_SETTLE_TICKS, d ? FOC_COMM_MODE_PULSE_D : FOC_COMM_MODE_PULSE_Q) == 0u) {
         return FOC_COMM_BUSY;
     }
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     const int32_t r = d ? inductance_q14(m, FOC_COMM_PULSE_SUM_D, FOC_COMM_TS_TAU_D_Q20)
+                        /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
                         : inductance_q14(m, FOC_COMM_PULSE_SUM_Q, FOC_COMM_TS_TAU_Q_Q20);
     if (plausible(r) == 0u) {
         return fail(m);
@@ -369,6 +380,7 @@ FOC_COLD foc_comm_status_t foc_comm_tick(foc_comm_t *m, foc_startup_t *su, const
     }
     switch (m->step) {
     case FOC_COMM_STEP_OFFSETS:
+        /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
         if (in->calibrated == 0u || m->ticks < FOC_CALIB_TICKS) {
             return FOC_COMM_BUSY;
         }
@@ -388,6 +400,8 @@ FOC_COLD foc_comm_status_t foc_comm_tick(foc_comm_t *m, foc_startup_t *su, const
             }
         } else if (m->ticks >= FOC_COMM_ROTOR_SETTLE_TICKS) {
             next_step(m, FOC_COMM_STEP_RS, FOC_COMM_MODE_HOLD);
+        } else {
+            /* the rotor settles */
         }
         if (m->level != 0u) {
             su->current = FOC_COMM_I_HIGH;
@@ -423,7 +437,9 @@ FOC_COLD static int32_t inertia_q12(const foc_comm_t *m)
     const int32_t slope_q24 = mul_shift(m->u.friction_i.high - m->u.friction_i.low, FOC_COMM_MECH_INV_DW_Q24,
                                         FOC_COMM_MECH_SUM_LOG2);
     const int64_t x = (int64_t)m->sum[0] - m->sum[2] -
+                      /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
                       (((int64_t)slope_q24 * ((int64_t)m->sum[1] - m->sum[3])) >> 24);
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const int64_t kt_x = (x * m->flux_q14) >> 14;
     const int32_t num = (kt_x > INT32_MAX) ? INT32_MAX : (kt_x < 0) ? 0 : (int32_t)kt_x;
     return div_frac(num, FOC_COMM_MECH_J_SUM, 12, 32768);
@@ -437,6 +453,7 @@ FOC_COLD q15_t foc_comm_mech_tick(foc_comm_t *m, q15_t speed)
         return (level == MECH_UP || level == MECH_HIGH) ? FOC_COMM_MECH_HIGH : FOC_COMM_MECH_LOW;
     }
     /* the block's mean, rounded (the noise dithers the rounding) */
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     const int32_t half = (m->iq_block < 0) ? -(int32_t)(CONTROL_SLOW_DIVIDER / 2) : (int32_t)(CONTROL_SLOW_DIVIDER / 2);
     const q15_t iq = (q15_t)((m->iq_block + half) / (int32_t)CONTROL_SLOW_DIVIDER);
     m->iq_block = 0;
@@ -451,6 +468,8 @@ FOC_COLD q15_t foc_comm_mech_tick(foc_comm_t *m, q15_t speed)
         int32_t *const window = &m->sum[(level == MECH_DOWN) ? 2 : 0];
         window[0] += iq;
         window[1] += speed;
+    } else {
+        /* MECH_SETTLE: nothing summed */
     }
     m->ticks++;
     if (m->ticks >= length) {

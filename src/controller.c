@@ -73,6 +73,8 @@ static void take_post(foc_ctrl_t *c)
             foc_port_pwm_disable();
         } else if (c->state != FOC_STATE_IDLE && c->state != FOC_STATE_FAULT) {
             foc_port_pwm_enable();
+        } else {
+            /* IDLE, FAULT: the bridge stays off */
         }
     } else {
         foc_cc_preset(&c->current_ctrl, c->post_v, c->est.speed);
@@ -199,6 +201,7 @@ static q15_t forced_vq(q15_t speed, q15_t id)
 static FOC_ALWAYS_INLINE uint8_t current_lost(foc_ab_t i)
 {
     return (uint8_t)((uint32_t)((int32_t)i.alpha * i.alpha) + (uint32_t)((int32_t)i.beta * i.beta) >
+                     /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
                      FOC_CURRENT_TRIP_SQ_Q30);
 }
 
@@ -212,12 +215,17 @@ static FOC_ALWAYS_INLINE foc_ab_t applied_voltage(const foc_ctrl_t *c, foc_ab_t 
                                        foc_ab_t i_last, foc_ab_t i_now)
 {
     foc_ab_t v = v_prev;
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     if (FOC_V_NEW_WEIGHT != 0) {
+        /* cppcheck-suppress [misra-c2012-10.1, misra-c2012-10.8] ; D1 Q-format shift, D2 compile-time constant */
         v.alpha = (q15_t)(v.alpha + ((((int32_t)v_last.alpha - v.alpha) * FOC_V_NEW_WEIGHT) >> 15));
+        /* cppcheck-suppress [misra-c2012-10.1, misra-c2012-10.8] ; D1 Q-format shift, D2 compile-time constant */
         v.beta = (q15_t)(v.beta + ((((int32_t)v_last.beta - v.beta) * FOC_V_NEW_WEIGHT) >> 15));
     }
     if (c->opt.deadtime_comp != 0u) {
+        /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
         const foc_ab_t i_mid = { (q15_t)(((int32_t)i_last.alpha + i_now.alpha) >> 1),
+                                 /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
                                  (q15_t)(((int32_t)i_last.beta + i_now.beta) >> 1) };
         const foc_ab_t err = foc_deadtime_error_ab(foc_iclarke_q15(i_mid));
         v.alpha = foc_add_q15(v.alpha, err.alpha);
@@ -309,6 +317,8 @@ static inline void lprobe_count(foc_ctrl_t *c)
         c->lprobe = 0;
     } else if (c->lprobe < FOC_LPROBE_DONE) {
         c->lprobe++;
+    } else {
+        /* done: the count stays */
     }
 }
 
@@ -355,6 +365,7 @@ static void current_loop(foc_ctrl_t *c, uint8_t frame)
     }
 
     const foc_ab_t v_applied = applied_voltage(c, c->v_ab_prev, c->v_ab, i_last, c->i_ab);
+    /* cppcheck-suppress misra-c2012-9.2 ; F analyser false positive */
     const foc_est_input_t in = { v_applied, c->i_ab, c->i_ref_slewed.q, c->samples.theta_sensor };
     foc_est_step(&c->est, &in);
     c->v_ab_prev = c->v_ab;
@@ -383,7 +394,9 @@ static void current_loop(foc_ctrl_t *c, uint8_t frame)
         /* the q swing current may use what the d current leaves */
         c->v_dq.q = foc_cc_q_forced(&c->current_ctrl, forced_vq(c->startup.speed, c->i_ref_slewed.d), c->i_dq.q,
                                     c->forced_iq_max, c->v_dq.d, v_max, c->est.speed);
-    } /* FRAME_PROBE: the q voltage held; FRAME_PULSE: comm_pulse's */
+    } else {
+        /* FRAME_PROBE: the q voltage held; FRAME_PULSE: comm_pulse's */
+    }
 
     apply_voltage(c, foc_sincos_sum(sc, c->advance_sc));
 }
@@ -424,13 +437,15 @@ FOC_COLD static void commission_fast(foc_ctrl_t *c)
  * the current's angle, `turn` the angle turned per period. */
 static uint16_t probe_rotor_angle(uint16_t current, int32_t turn)
 {
-    const int32_t quarter = (turn < 0) ? -16384 : 16384;
+    const int32_t quarter = (turn < 0) ? (int32_t)-16384 : (int32_t)16384;
+    /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
     return (uint16_t)((int32_t)current + quarter + turn / 2);
 }
 
 /* Squared magnitude of a current, Q30 / 4 (<= 2^29). */
 static int32_t probe_mag2(foc_ab_t i)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
     return (int32_t)(((uint32_t)((int32_t)i.alpha * i.alpha) + (uint32_t)((int32_t)i.beta * i.beta)) >> 2);
 }
 
@@ -447,10 +462,12 @@ static uint8_t probe_take(foc_ctrl_t *c, foc_ab_t i)
     const int32_t m2 = probe_mag2(i);
     const uint16_t angle = foc_atan2_q15(i.beta, i.alpha);
     const int32_t turn = (int32_t)foc_angle_diff(angle, foc_atan2_q15(c->i_ab.beta, c->i_ab.alpha)) /
+                         /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
                          (int32_t)FOC_PROBE_SPACING; /* per period */
     const q15_t speed = foc_mul_q15_shift((q15_t)turn, FOC_PROBE_SPEED_MANT, FOC_PROBE_SPEED_SHIFT);
     /* a factor 2 in magnitude is 4 in the squares (each <= 2^29: compared
      * as a quarter, 4 x 2^29 would overflow) */
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     if ((m1 >> 2) > m2 || (m2 >> 2) > m1 || foc_abs_q15(speed) < FOC_STARTUP_MIN_SPEED) {
         return 0;
     }
@@ -503,6 +520,8 @@ FOC_COLD static uint8_t catch_probe(foc_ctrl_t *c)
         foc_port_pwm_enable(); /* duties 1/2: the short */
     } else if (j == 1u) {
         foc_port_pwm_disable();
+    } else {
+        /* the bridge stays as it is */
     }
     if (second == 0u) {
         if (j == 1u) {
@@ -511,6 +530,8 @@ FOC_COLD static uint8_t catch_probe(foc_ctrl_t *c)
         } else if (j == 2u && probe_mag2(i) > probe_mag2(c->i_ab)) {
             c->i_ab = i;
             c->probe_first = 2;
+        } else {
+            /* the first short's current stays */
         }
         if (j == 2u && probe_mag2(c->i_ab) < FOC_PROBE_MIN_MAG2) {
             c->probe = 0; /* slow: CATCH from rest */
@@ -527,6 +548,8 @@ FOC_COLD static uint8_t catch_probe(foc_ctrl_t *c)
         /* the current is back to zero: the controller takes the rotor */
         c->probe = 0;
         return PROBE_LOOP_ENABLE;
+    } else {
+        /* between the samples */
     }
     return PROBE_BUSY;
 }
@@ -621,7 +644,7 @@ static void begin_start(foc_ctrl_t *c)
 {
     c->direction = (c->req.speed < 0) ? (int8_t)-1 : (int8_t)1;
     const uint8_t on_sensor =
-        (uint8_t)(c->opt.sensored_start != 0u || c->est.kind == FOC_EST_SENSORED);
+        (uint8_t)(c->opt.sensored_start != 0u || c->est.kind == (uint8_t)FOC_EST_SENSORED);
     c->post_on_sensor = on_sensor;
     const uint8_t catching = (uint8_t)(on_sensor == 0u && c->opt.open_loop_only == 0u);
     post(c, (catching != 0u) ? FOC_POST_CATCH : FOC_POST_RESTART);
@@ -677,6 +700,7 @@ static void identify_ls(foc_ctrl_t *c)
         return; /* not held: no measure */
     }
     const int32_t ratio = ((int32_t)FOC_LPROBE_DI * 16384) / dip -
+                          /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
                           ((FOC_LPROBE_RT_Q14 * (int32_t)c->est.rs_ratio) >> 14);
     foc_est_set_ls(&c->est, measured_ratio(ratio));
 }
@@ -728,23 +752,27 @@ static void catch_tick(foc_ctrl_t *c)
                              foc_abs_q15(c->i_dq.q) < FOC_LPROBE_DI / 8)
                                 ? (uint8_t)(c->lprobe_req + 1u) : 1u;
             c->startup.speed = c->est.speed; /* the probe's frame turns at it */
-            if (c->state_ticks >= FOC_CATCH_MAX_TICKS + FOC_CATCH_TICKS / 2u) {
+            if (c->state_ticks >= FOC_CATCH_MAX_TICKS + (uint16_t)FOC_CATCH_TICKS / 2u) {
                 catch_run(c); /* never settled: no measure */
             }
         } else if (c->lprobe == FOC_LPROBE_DONE) {
             identify_ls(c);
             catch_run(c);
+        } else {
+            /* the probe runs */
         }
         return;
     }
     foc_speed_stats_push(&c->speed_stats, c->est.est_speed);
-    if (c->state_ticks < FOC_CATCH_TICKS) {
+    if (c->state_ticks < (uint16_t)FOC_CATCH_TICKS) {
         return;
     }
     const q15_t mean = foc_speed_stats_mean(&c->speed_stats);
     const uint8_t turning = (uint8_t)(foc_abs_q15(mean) >= FOC_STARTUP_MIN_SPEED);
     if (turning != 0u &&
+        /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
         foc_speed_stats_reliable(&c->speed_stats, FOC_STARTUP_VARIANCE_THRESHOLD) &&
+        /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
         foc_est_emf_consistent(&c->est, FOC_STALL_EMF_RATIO)) {
         c->direction = (mean < 0) ? (int8_t)-1 : (int8_t)1;
         if ((int32_t)foc_abs_q15(c->est.speed) <= FOC_LPROBE_SPEED_MAX) {
@@ -774,8 +802,11 @@ static uint8_t estimator_converged(const foc_ctrl_t *c, q15_t driven)
     const int32_t forced = (int32_t)foc_abs_q15(driven);
     return (uint8_t)(foc_speed_stats_reliable(&c->speed_stats, FOC_STARTUP_VARIANCE_THRESHOLD) &&
                      mean >= FOC_STARTUP_MIN_SPEED &&
+                     /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
                      mean * 256 >= forced * FOC_STARTUP_WINDOW_MIN_Q8 &&
+                     /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
                      mean * 256 <= forced * FOC_STARTUP_WINDOW_MAX_Q8 &&
+                     /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
                      foc_est_emf_consistent(&c->est, FOC_STALL_EMF_RATIO));
 }
 
@@ -783,7 +814,7 @@ static uint8_t estimator_converged(const foc_ctrl_t *c, q15_t driven)
 static uint8_t converged_long_enough(foc_ctrl_t *c, q15_t driven)
 {
     c->converged_ticks = estimator_converged(c, driven) ? (uint8_t)(c->converged_ticks + 1u) : 0u;
-    return (uint8_t)(c->converged_ticks >= STARTUP_CONV_TESTS);
+    return (uint8_t)(c->converged_ticks >= (uint16_t)STARTUP_CONV_TESTS);
 }
 
 /* On to the estimator's angle: the current reference, held in the frame
@@ -826,6 +857,8 @@ static void startup_tick(foc_ctrl_t *c)
             identify_rs(c);
             c->lprobe_req = FOC_LPROBE_GO;
             return;
+        } else {
+            /* aligning */
         }
     } else {
         const q15_t limit = (c->opt.open_loop_only != 0u) ? foc_abs_q15(c->req.speed)
@@ -856,6 +889,7 @@ static q15_t salient_id(const foc_ctrl_t *c, q15_t id_fw, q15_t iq)
     if (!FOC_SALIENT || c->fw.mtpa == 0u) {
         return id_fw;
     }
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     const q15_t id_mtpa = foc_mtpa_id_q15(iq, FOC_MTPA_K_Q12);
     return (id_mtpa < id_fw) ? id_mtpa : id_fw;
 }
@@ -880,8 +914,10 @@ static void speed_loop(foc_ctrl_t *c, q15_t target)
 {
     /* TUNING: the reference creeps toward the command. */
     c->speed_ctrl.target = target;
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     c->speed_ctrl.step15 = (c->opt.tuning != 0u) ? FOC_TUNING_RAMP_STEP15
                            : (c->comm.step == (uint8_t)FOC_COMM_STEP_MECH) ? FOC_COMM_MECH_RAMP_STEP15
+                                                                         /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
                                                                          : FOC_SPEED_RAMP_STEP15;
     const q15_t v_mag = foc_mag_q15(c->v_dq.d, c->v_dq.q);
     const q15_t id_fw = foc_fw_step(&c->fw, c->speed_ctrl.ramped, v_mag, c->bus.v_max);
@@ -892,7 +928,7 @@ static void speed_loop(foc_ctrl_t *c, q15_t target)
      * giving all it has (or off): no faster than now, and say so. */
     const uint8_t no_voltage =
         (uint8_t)((int32_t)v_mag * 64 >= (int32_t)c->bus.v_max * 63 &&
-                  (c->fw.mode == FW_MODE_OFF || id_fw <= (q15_t)(-FOC_FW_ID_MAX + FOC_FW_ID_MAX / 32)));
+                  (c->fw.mode == (uint8_t)FW_MODE_OFF || id_fw <= (q15_t)(-FOC_FW_ID_MAX + FOC_FW_ID_MAX / 32)));
     c->speed_limited = (uint8_t)(no_voltage != 0u && foc_abs_q15(target) > foc_abs_q15(c->est.speed));
     if (c->speed_limited != 0u) {
         foc_sc_hold(&c->speed_ctrl, c->est.speed);
@@ -921,7 +957,7 @@ static void stall_check(foc_ctrl_t *c, uint8_t reversal)
     if (c->est.use_sensor != 0u || c->speed_stats.count < FOC_SPEED_STATS_N) {
         return; /* nothing to check yet */
     }
-    const uint8_t in_range = foc_abs_q15(c->speed_ctrl.ramped) >= FOC_STARTUP_MIN_SPEED;
+    const uint8_t in_range = (uint8_t)(foc_abs_q15(c->speed_ctrl.ramped) >= FOC_STARTUP_MIN_SPEED);
     /* reliable, and not far below the speed asked for (an estimate that
      * settled at standstill is "reliable" too) */
     const int32_t mean = (int32_t)foc_speed_stats_mean(&c->speed_stats) * c->direction;
@@ -930,20 +966,24 @@ static void stall_check(foc_ctrl_t *c, uint8_t reversal)
                   mean >= FOC_STARTUP_MIN_SPEED / 2);
     const uint8_t motoring = (uint8_t)(((int32_t)c->i_ref.q * c->direction) > 0);
     const uint8_t emf_ok = foc_est_emf_consistent(
-        &c->est, (motoring != 0u && c->est.kind == FOC_EST_LUENBERGER)
+        &c->est, (motoring != 0u && c->est.kind == (uint8_t)FOC_EST_LUENBERGER)
+                     /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
                      ? FOC_STALL_EMF_RATIO_MOTORING : FOC_STALL_EMF_RATIO);
     /* the statistics' count leaks (2 up, 1 down): the estimate of a rotor
      * slipping poles looks steady for a moment each turn */
-    c->unreliable_ticks =
-        (!in_range) ? 0u
-        : reliable  ? (uint16_t)((c->unreliable_ticks != 0u) ? c->unreliable_ticks - 1u : 0u)
-                    : (uint16_t)(c->unreliable_ticks + 2u);
+    if (in_range == 0u) {
+        c->unreliable_ticks = 0u;
+    } else if (reliable != 0u) {
+        c->unreliable_ticks = (uint16_t)((c->unreliable_ticks != 0u) ? c->unreliable_ticks - 1u : 0u);
+    } else {
+        c->unreliable_ticks = (uint16_t)(c->unreliable_ticks + 2u);
+    }
     /* the flux estimator's learned flux is itself slow and slewed (tens of
      * ms to reach its range's end): no second wait (regress/2b) */
-    const uint16_t emf_low_max = (c->est.kind == FOC_EST_FLUX) ? 1u : (uint16_t)STALL_TICKS;
+    const uint16_t emf_low_max = (c->est.kind == (uint8_t)FOC_EST_FLUX) ? 1u : (uint16_t)STALL_TICKS;
     c->emf_low_ticks =
         (emf_ok != 0u || reversal != 0u) ? 0u : (uint16_t)(c->emf_low_ticks + 1u);
-    if (c->unreliable_ticks >= 2u * STALL_TICKS || c->emf_low_ticks >= emf_low_max) {
+    if (c->unreliable_ticks >= 2u * (uint16_t)STALL_TICKS || c->emf_low_ticks >= emf_low_max) {
         trip(c, (uint16_t)FOC_FAULT_SPEED_FEEDBACK);
     }
 }
@@ -985,7 +1025,7 @@ static q15_t reversal_speed_now(const foc_ctrl_t *c)
 
 static void run_tick(foc_ctrl_t *c)
 {
-    if (c->est.use_sensor != 0u && c->est.kind != FOC_EST_SENSORED &&
+    if (c->est.use_sensor != 0u && c->est.kind != (uint8_t)FOC_EST_SENSORED &&
         foc_abs_q15(c->est.speed) >= FOC_SENSORED_HANDOVER_SPEED) {
         /* Sensored start: on to the estimator once it has converged. */
         c->direction = (c->est.speed < 0) ? (int8_t)-1 : (int8_t)1;
@@ -1070,6 +1110,8 @@ static void brake_tick(foc_ctrl_t *c)
         /* it does not slow down: shorting now could exceed the current
          * limit, so let it coast */
         to_idle(c);
+    } else {
+        /* slowing down */
     }
 }
 
@@ -1164,13 +1206,17 @@ static void state_machine(foc_ctrl_t *c)
             outputs_off(c);
             c->start_ticks = 0;
             enter(c, FOC_STATE_CALIB);
+        } else {
+            /* no request */
         }
         break;
     case FOC_STATE_CALIB:
         if (c->req.stop != 0u) {
             enter(c, FOC_STATE_IDLE);
-        } else if (c->current_sense.calibrated != 0u && c->state_ticks >= FOC_CALIB_TICKS) {
+        } else if (c->current_sense.calibrated != 0u && c->state_ticks >= FOC_CALIB_TICKS) { /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
             begin_start(c);
+        } else {
+            /* calibrating */
         }
         break;
     case FOC_STATE_CATCH:
@@ -1199,6 +1245,7 @@ static void state_machine(foc_ctrl_t *c)
             c->start_ticks = 0;
         }
         if ((foc_abs_q15(c->speed_ctrl.ramped) <= stop_speed &&
+             /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
              foc_abs_q15(c->est.speed) <= stop_speed + (stop_speed >> 2)) ||
             c->start_ticks >= FOC_STOP_SETTLE_TICKS || c->state_ticks >= FOC_RAMP_DOWN_TICKS) {
             to_idle(c);
@@ -1284,7 +1331,7 @@ void foc_cmd_speed(foc_ctrl_t *c, q15_t speed)
 {
     /* never beyond the motor's maximum speed, whatever is asked, and
      * without a sensor not below the lowest speed the estimate holds */
-    const q15_t lowest = (c->est.kind == FOC_EST_SENSORED) ? 0 : c->opt.min_speed;
+    const q15_t lowest = (c->est.kind == (uint8_t)FOC_EST_SENSORED) ? 0 : c->opt.min_speed;
     c->req.speed = (speed > FOC_MAX_SPEED)                  ? FOC_MAX_SPEED
                    : (speed < -FOC_MAX_SPEED)               ? (q15_t)-FOC_MAX_SPEED
                    : (speed > 0 && speed < lowest)          ? lowest

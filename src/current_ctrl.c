@@ -3,7 +3,9 @@
 
 void foc_cc_init(foc_current_ctrl_t *cc)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     foc_pi_init(&cc->pi_d, (q15_t)-FOC_VOLTAGE_LIMIT, FOC_VOLTAGE_LIMIT);
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     foc_pi_init(&cc->pi_q, (q15_t)-FOC_VOLTAGE_LIMIT, FOC_VOLTAGE_LIMIT);
     cc->pull_integ = 0;
     cc->ff_speed = 0;

@@ -17,12 +17,13 @@ void foc_cs_calib_start(foc_current_sense_t *cs, uint8_t count_log2)
 /* Mean of the sum, rounded: |sum| <= 2^15 x 2^14 fits int32_t. */
 static q15_t mean_of(int32_t sum, uint8_t log2)
 {
+    /* cppcheck-suppress [misra-c2012-10.1, misra-c2012-10.7] ; D1 Q-format shift */
     return foc_sat_q15((sum + ((int32_t)1 << (log2 - 1u))) >> log2);
 }
 
 void foc_cs_calib_add(foc_current_sense_t *cs, const foc_samples_t *s)
 {
-    if (cs->calibrated) {
+    if (cs->calibrated != 0u) {
         return;
     }
     /* A 3-shunt port reads all three phases while the bridge is off. */

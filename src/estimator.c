@@ -42,9 +42,9 @@ static void restart_at(foc_estimator_t *est, uint16_t theta, q15_t speed)
 
 void foc_est_reset(foc_estimator_t *est, uint16_t theta_sensor, uint8_t use_sensor)
 {
-    est->use_sensor = (uint8_t)(use_sensor != 0u || est->kind == FOC_EST_SENSORED);
+    est->use_sensor = (uint8_t)(use_sensor != 0u || est->kind == (uint8_t)FOC_EST_SENSORED);
     foc_sensored_reset(&est->sensored, theta_sensor);
-    if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == FOC_EST_PLL) {
+    if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == (uint8_t)FOC_EST_PLL) {
         foc_pll_init(&est->u.pll);
     }
     restart_at(est, 0, 0);
@@ -58,44 +58,49 @@ void foc_est_preset(foc_estimator_t *est, uint16_t theta, q15_t speed)
 void foc_est_set_rs(foc_estimator_t *est, q15_t ratio_q14)
 {
     est->rs_ratio = ratio_q14;
-    if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == FOC_EST_PLL) {
+    if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == (uint8_t)FOC_EST_PLL) {
         foc_pll_set_rs(&est->u.pll, ratio_q14);
-    } else if (FOC_EST_BUILT(FOC_EST_FLUX) && est->kind == FOC_EST_FLUX) {
+    } else if (FOC_EST_BUILT(FOC_EST_FLUX) && est->kind == (uint8_t)FOC_EST_FLUX) {
         foc_flux_set_rs(&est->u.flux, ratio_q14);
-    } else if (FOC_EST_BUILT(FOC_EST_LUENBERGER) && est->kind == FOC_EST_LUENBERGER) {
+    } else if (FOC_EST_BUILT(FOC_EST_LUENBERGER) && est->kind == (uint8_t)FOC_EST_LUENBERGER) {
         foc_luen_set_winding(&est->u.luenberger, ratio_q14, est->ls_ratio);
+    } else {
+        /* sensored: no model to set */
     }
 }
 
 void foc_est_set_ls(foc_estimator_t *est, q15_t ratio_q14)
 {
     est->ls_ratio = ratio_q14;
-    if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == FOC_EST_PLL) {
+    if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == (uint8_t)FOC_EST_PLL) {
+        /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
         foc_pll_set_ls_scale(&est->u.pll, Q15(0.5), ratio_q14);
-    } else if (FOC_EST_BUILT(FOC_EST_FLUX) && est->kind == FOC_EST_FLUX) {
+    } else if (FOC_EST_BUILT(FOC_EST_FLUX) && est->kind == (uint8_t)FOC_EST_FLUX) {
         foc_flux_set_ls(&est->u.flux, ratio_q14);
-    } else if (FOC_EST_BUILT(FOC_EST_LUENBERGER) && est->kind == FOC_EST_LUENBERGER) {
+    } else if (FOC_EST_BUILT(FOC_EST_LUENBERGER) && est->kind == (uint8_t)FOC_EST_LUENBERGER) {
         foc_luen_set_winding(&est->u.luenberger, est->rs_ratio, ratio_q14);
+    } else {
+        /* sensored: no model to set */
     }
 }
 
 void foc_est_track_flux(foc_estimator_t *est)
 {
-    if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == FOC_EST_PLL) {
+    if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == (uint8_t)FOC_EST_PLL) {
         foc_pll_track_flux(&est->u.pll);
     }
 }
 
 void foc_est_track_reset(foc_estimator_t *est)
 {
-    if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == FOC_EST_PLL) {
+    if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == (uint8_t)FOC_EST_PLL) {
         foc_pll_track_reset(&est->u.pll);
     }
 }
 
 void foc_est_set_fw(foc_estimator_t *est, q15_t inv_kfi, q15_t ls_scale)
 {
-    if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == FOC_EST_PLL) {
+    if (FOC_EST_BUILT(FOC_EST_PLL) && est->kind == (uint8_t)FOC_EST_PLL) {
         foc_pll_set_inv_kfi(&est->u.pll, inv_kfi);
         foc_pll_set_ls_scale(&est->u.pll, ls_scale, est->ls_ratio);
     }

@@ -22,7 +22,7 @@ const char *foc_fault_name(uint16_t fault)
         "COMMISSION_FAILED",
     };
     for (unsigned bit = 0; bit < sizeof names / sizeof names[0]; bit++) {
-        if ((fault & (1u << bit)) != 0u) {
+        if ((fault & ((unsigned)1u << bit)) != 0u) {
             return names[bit];
         }
     }

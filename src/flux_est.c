@@ -52,6 +52,7 @@ void foc_flux_reset(foc_flux_est_t *f, uint16_t theta, q15_t speed, foc_ab_t i_n
     foc_flux_set_rs(f, FOC_RATIO_ONE_Q14);
     /* Angle history of a constant speed: steps in counts per period,
      * |speed x THETA32_PER_SPEED| < 2^30. */
+    /* cppcheck-suppress [misra-c2012-10.1, misra-c2012-10.8] ; D1 Q-format shift, D2 compile-time constant */
     const int16_t step = (int16_t)(((int32_t)speed * FOC_THETA32_PER_SPEED) >> 16);
     f->dtheta1 = step;
     f->dtheta2 = step;
@@ -64,8 +65,10 @@ void foc_flux_reset(foc_flux_est_t *f, uint16_t theta, q15_t speed, foc_ab_t i_n
  * the increment is below 2^28 (FOC_FLUX_KINT_X < 8192, config.h). */
 static q31_t integrate(q31_t psi, q15_t v, q15_t i, q15_t i_prev, q15_t rs)
 {
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const q15_t i_mid = (q15_t)(((int32_t)i + (int32_t)i_prev) >> 1);
     const q15_t r_drop = foc_mul_q15_shift(i_mid, rs, FOC_RS2_SHIFT);
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const q15_t e_half = foc_sat_q15(((int32_t)v - (int32_t)r_drop + 1) >> 1);
     return foc_add_q31(psi, foc_mul_norm32(e_half, FOC_FLUX_KINT_MANT, FOC_FLUX_KINT_RSHIFT));
 }
@@ -96,12 +99,16 @@ static q15_t learn_radius(foc_flux_est_t *f, q15_t radial, q15_t speed_abs)
         err = RADIAL_ERR_MAX;
     } else if (err < -RADIAL_ERR_MAX) {
         err = -RADIAL_ERR_MAX;
+    } else {
+        /* within the limits */
     }
     f->psi_m = foc_add_q31(f->psi_m, (int32_t)g_mag * err * 2);
     if (f->psi_m > PSI_M_MAX) {
         f->psi_m = PSI_M_MAX;
     } else if (f->psi_m < PSI_M_MIN) {
         f->psi_m = PSI_M_MIN;
+    } else {
+        /* within the limits */
     }
     return mag;
 }
@@ -125,6 +132,7 @@ void foc_flux_step(foc_flux_est_t *f, foc_ab_t v_last, foc_ab_t i_now, q15_t iq_
     /* Eq. 16: 3 th(k-1) - 3 th(k-2) + th(k-3)
      *       = th(k-1) + 2 (th(k-1) - th(k-2)) - (th(k-2) - th(k-3));
      * the conversion to uint16_t wraps modulo 360 deg. */
+    /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
     const uint16_t theta_p = (uint16_t)((int32_t)f->theta + 2 * (int32_t)f->dtheta1 -
                                         (int32_t)f->dtheta2);
     const foc_sincos_t sc = foc_sincos_q15(theta_p);

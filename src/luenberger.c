@@ -15,7 +15,7 @@
  * integrator's range. */
 #define INV_Q 9u
 #define INV_ONE ((int32_t)1 << INV_Q)
-#define AMP_MIN ((int32_t)32768 >> 6)
+#define AMP_MIN ((int32_t)512) /* 32768 / 64 */
 #define DIR_HYST ((q15_t)AMP_MIN)
 
 static int32_t clamp32(int32_t x, int32_t max)
@@ -32,6 +32,7 @@ static int32_t clamp32(int32_t x, int32_t max)
 /* Q15 part of a state (arithmetic shift; |state| <= 32767 x F). */
 static q15_t q15_part(int32_t state, uint8_t log2_f)
 {
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     return (q15_t)(state >> log2_f);
 }
 
@@ -43,6 +44,7 @@ static int32_t emf_amplitude(foc_ab_t e)
     const int32_t b = foc_abs_q15(e.beta);
     const int32_t big = (a > b) ? a : b;
     const int32_t small = (a > b) ? b : a;
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const int32_t blend = big - (big >> 3) + (small >> 1);
     const int32_t amp = (blend > big) ? blend : big;
     return (amp > AMP_MIN) ? amp : AMP_MIN;
@@ -54,13 +56,17 @@ static int32_t emf_amplitude(foc_ab_t e)
  * period tracks it.  amp <= 45056 and inv <= 32767: products < 2^31. */
 static void track_inverse(foc_luenberger_t *l, int32_t amp)
 {
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const int32_t one = (int32_t)1 << (15u + INV_Q); /* amp x inv = 1.0 */
     int32_t factor = 2 * one - amp * l->inv_amp;     /* Q24 */
     if (factor < one / 4) {
         factor = one / 4;
     } else if (factor > 7 * (one / 4)) {
         factor = 7 * (one / 4);
+    } else {
+        /* within the limits */
     }
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     l->inv_amp = clamp32((l->inv_amp * (factor >> INV_Q)) >> 15, 32767);
     if (l->inv_amp < 1) {
         l->inv_amp = 1;
@@ -83,12 +89,14 @@ void foc_luen_reset(foc_luenberger_t *l, uint16_t theta, q15_t speed, foc_ab_t i
     l->integ = 0;
     l->emf_speed = speed;
     l->forward = (uint8_t)(speed >= 0);
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     l->inv_amp = INV_ONE;
     const int32_t amp = emf_amplitude(e_ab);
     for (unsigned k = 0; k < 16u; k++) {
         track_inverse(l, (amp > FOC_LUEN_PLL_FULL_AMP) ? amp : FOC_LUEN_PLL_FULL_AMP);
     }
     /* theta32 is the angle at the next sample (as after every step). */
+    /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
     l->theta32 = ((uint32_t)theta << 16) + (uint32_t)((int32_t)speed * FOC_THETA32_PER_SPEED);
     l->theta = theta;
     l->omega = speed;
@@ -129,11 +137,15 @@ void foc_luen_set_winding(foc_luenberger_t *l, q15_t rs_ratio_q14, q15_t ls_rati
     const int32_t r = held(ls_ratio_q14, FOC_LUEN_RATIO_MIN, FOC_LUEN_RATIO_MAX);
     /* Rs T/Ls as a ratio to the parameters' (Q14), within its formats */
     const int32_t x_held =
+        /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
         held((int32_t)rs_ratio_q14 * 16384 / r, FOC_LUEN_X_RATIO_MIN, FOC_LUEN_X_RATIO_MAX);
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     l->c1 = foc_sat_q15(((int32_t)FOC_LUEN_C1 * x_held) >> 14);
     l->c2 = foc_sat_q15((int32_t)FOC_LUEN_C2 - FOC_LUEN_C2X +
+                        /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
                         (((int32_t)FOC_LUEN_C2X * x_held) >> 14));
     l->c3 = over_ratio(FOC_LUEN_C3, r);
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     l->c4 = foc_sat_q15(((int32_t)FOC_LUEN_C4 * r) >> 14);
     l->c5 = over_ratio(FOC_LUEN_C5, r);
 }
@@ -144,20 +156,26 @@ void foc_luen_set_winding(foc_luenberger_t *l, q15_t rs_ratio_q14, q15_t ls_rati
  * where Ki x phase error is a few units of Q15 and g a few percent. */
 static int32_t times_q15(int32_t x, q15_t g)
 {
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const int32_t hi = x >> 15;
     const int32_t lo = x - hi * 32768;
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     return hi * (int32_t)g + ((lo * (int32_t)g) >> 15);
 }
 
 /* e += h J e: rotation by h = w T (Q16 rad), forward Euler as ST. */
 static void rotate_emf(foc_luen_ab32_t *e, q15_t speed)
 {
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const int32_t h = ((int32_t)speed * (int32_t)FOC_LUEN_C6) >> 15; /* |h| < 2^15 */
     const q15_t ea = q15_part(e->alpha, FOC_LUEN_F2_LOG2);
     const q15_t eb = q15_part(e->beta, FOC_LUEN_F2_LOG2);
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const int32_t round = (int32_t)1 << (ROT_SHIFT - 1u);
     /* |h e| <= 2^30; after the shift <= 2^15 F2 / 2 (config.h) */
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     e->alpha = clamp32(e->alpha - ((h * eb + round) >> ROT_SHIFT), E_STATE_MAX);
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     e->beta = clamp32(e->beta + ((h * ea + round) >> ROT_SHIFT), E_STATE_MAX);
 }
 
@@ -182,6 +200,7 @@ void foc_luen_step(foc_luenberger_t *l, foc_ab_t v_last, foc_ab_t i_now)
     const foc_sincos_t sc = foc_sincos_q15(theta_mid);
     const q15_t ed = foc_add_q15(foc_mul_q15(e.alpha, sc.cos), foc_mul_q15(e.beta, sc.sin));
     l->emf_speed = foc_sub_q15(foc_mul_q15(e.beta, sc.cos), foc_mul_q15(e.alpha, sc.sin));
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const int32_t ed_norm = ((int32_t)ed * l->inv_amp) >> INV_Q; /* < 2^31 */
     /* Weighted by how sure the direction is: 0 at standstill, 1 from the
      * hysteresis up (|filtered speed| / DIR_HYST in Q15).  Near zero speed
@@ -206,9 +225,11 @@ void foc_luen_step(foc_luenberger_t *l, foc_ab_t v_last, foc_ab_t i_now)
     const int32_t i_max = ((int32_t)foc_abs_q15(l->emf_speed) / 2 + AMP_MIN) * 32768;
     l->integ = clamp32(l->integ + times_q15(FOC_LUEN_PLL_KI * (int32_t)phase_err, g_w), i_max);
     const q15_t prop = foc_mul_q15_shift(phase_err, FOC_LUEN_PLL_KP_MANT, FOC_LUEN_PLL_KP_SHIFT);
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     l->omega = foc_sat_q15((int32_t)l->emf_speed + prop + (l->integ >> 15));
 
     /* Angle for the next sample (the conversion to uint32_t wraps). */
+    /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
     l->theta32 += (uint32_t)((int32_t)l->omega * FOC_THETA32_PER_SPEED);
     (void)foc_lpf_step(&l->speed, l->omega, FOC_LUEN_SPEED_FILTER_K);
 
@@ -221,6 +242,8 @@ void foc_luen_step(foc_luenberger_t *l, foc_ab_t v_last, foc_ab_t i_now)
         l->forward = 0;
     } else if (l->forward == 0u && w_out > DIR_HYST) {
         l->forward = 1;
+    } else {
+        /* within the hysteresis: the direction stays */
     }
     rotate_emf(&l->e_est, w_out);
 }

@@ -10,6 +10,7 @@ static const foc_ab_t zero_ab = { 0, 0 };
 void foc_pll_init(foc_pll_t *p)
 {
     p->inv_kfi = FOC_PLL_INVKFI;
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     foc_pll_set_ls_scale(p, Q15(0.5), FOC_RATIO_ONE_Q14);
     foc_pll_set_rs(p, FOC_RATIO_ONE_Q14);
     foc_pll_reset(p, 0, 0, zero_ab);
@@ -39,6 +40,7 @@ void foc_pll_reset(foc_pll_t *p, uint16_t theta, q15_t speed, foc_ab_t i_now)
     const foc_ab_t e_ab = foc_ipark_q15(e_dq, foc_sincos_q15(theta));
 
     /* theta32 holds the angle of the next sample (as after a step). */
+    /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
     p->theta32 = ((uint32_t)theta << 16) + (uint32_t)((int32_t)speed * FOC_THETA32_PER_SPEED);
     p->theta = theta;
     p->omega = speed;
@@ -64,6 +66,8 @@ static q15_t limited_di(q15_t now, q15_t prev)
         di = FOC_DI_MAX;
     } else if (di < -(int32_t)FOC_DI_MAX) {
         di = -(int32_t)FOC_DI_MAX;
+    } else {
+        /* within the limits */
     }
     return (q15_t)di;
 }
@@ -72,10 +76,12 @@ static q15_t limited_di(q15_t now, q15_t prev)
  * scale (Q15 of 2 x the voltage base), rounded and saturated. */
 static q15_t emf_component(const foc_pll_t *p, q15_t v, q15_t i, q15_t i_prev)
 {
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const q15_t i_mid = (q15_t)(((int32_t)i + (int32_t)i_prev) >> 1);
     const q15_t r_drop = foc_mul_q15_shift(i_mid, p->rs, FOC_RS2_SHIFT);
     const q15_t l_drop = foc_mul_q15_shift(limited_di(i, i_prev), p->ls_dt, FOC_PLL_LSDT_SHIFT);
     const int32_t e = (int32_t)v - (int32_t)r_drop - (int32_t)l_drop; /* |e| < 3 x 2^15 */
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     return foc_sat_q15((e + 1) >> 1);
 }
 
@@ -100,10 +106,13 @@ static inline int32_t lead_of(const foc_pll_t *p, q15_t edf)
 static void update_speed_range(foc_pll_t *p)
 {
     const q15_t w = foc_abs_q15(p->omega);
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     if (p->low_speed != 0u && w > LOW_SPEED_EXIT) {
         p->low_speed = 0;
     } else if (p->low_speed == 0u && w < FOC_PLL_LOW_SPEED) {
         p->low_speed = 1;
+    } else {
+        /* within the hysteresis: the range stays */
     }
 }
 
@@ -119,7 +128,9 @@ void foc_pll_step(foc_pll_t *p, foc_ab_t v_last, foc_ab_t i_now)
     /* The EMF used and how many half periods back its centre lies. */
     int32_t half_periods = 1;
     if (p->low_speed != 0u) {
+        /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
         e.alpha = (q15_t)(p->e_sum_alpha >> FOC_PLL_AVG_LOG2);
+        /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
         e.beta = (q15_t)(p->e_sum_beta >> FOC_PLL_AVG_LOG2);
         half_periods = (int32_t)FOC_PLL_AVG_N;
     }
@@ -136,6 +147,7 @@ void foc_pll_step(foc_pll_t *p, foc_ab_t v_last, foc_ab_t i_now)
     p->omega = foc_mul_q15_shift(foc_sat_q15(num), p->inv_kfi, FOC_PLL_INVKFI_SHIFT);
 
     /* Angle for the next sample; the conversion to uint32_t wraps. */
+    /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
     p->theta32 += (uint32_t)((int32_t)p->omega * FOC_THETA32_PER_SPEED);
     (void)foc_lpf_step(&p->speed, p->omega, FOC_PLL_SPEED_FILTER_K);
 }
@@ -154,12 +166,16 @@ void foc_pll_track_flux(foc_pll_t *p)
     const q15_t eqf = foc_lpf_out(&p->eq);
     const int32_t lead = lead_of(p, edf);
     const int32_t track_max = (int32_t)foc_abs_q15(eqf) * 16384; /* << 14 */
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     int32_t track = p->flux_track + lead * FOC_PLL_TRACK_GAIN_Q14;
     if (track > track_max) {
         track = track_max;
     } else if (track < -track_max) {
         track = -track_max;
+    } else {
+        /* within the limits */
     }
     p->flux_track = track;
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     p->flux_corr = (q15_t)(track >> 14);
 }

@@ -10,6 +10,7 @@ void foc_sc_init(foc_speed_ctrl_t *sc)
     sc->target = 0;
     sc->ramped = 0;
     sc->ramped15 = 0;
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     sc->step15 = FOC_SPEED_RAMP_STEP15;
     foc_pi_init(&sc->pi, (q15_t)-FOC_CURRENT_LIMIT, FOC_CURRENT_LIMIT);
     sc->gain_shift = 0;
@@ -44,6 +45,7 @@ q15_t foc_sc_iq_limit(q15_t id_ref)
     if (id2 >= lim2) {
         return 0;
     }
+    /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
     return (q15_t)foc_isqrt32((uint32_t)(lim2 - id2));
 }
 
@@ -52,7 +54,9 @@ q15_t foc_sc_iq_limit(q15_t id_ref)
  * count.  Kc, the ratio of the two, stays. */
 static q15_t pi_step(foc_speed_ctrl_t *sc, q15_t e)
 {
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const int32_t u = (sc->pi.integ >> 15) + (foc_pi_kp_term(&speed_gains, e) >> sc->gain_shift);
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     return foc_pi_finish_ki(&sc->pi, &speed_gains, foc_pi_ki_term(&speed_gains, e) >> sc->gain_shift, u);
 }
 
@@ -94,6 +98,7 @@ q15_t foc_sc_step(foc_speed_ctrl_t *sc, q15_t speed_meas, q15_t id_ref)
     sc->ramped15 = (diff > sc->step15)    ? sc->ramped15 + sc->step15
                    : (diff < -sc->step15) ? sc->ramped15 - sc->step15
                                           : target15;
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     sc->ramped = (q15_t)(sc->ramped15 >> 15);
     foc_pi_set_limits(&sc->pi, (q15_t)-iq_max, iq_max);
     const q15_t iq = pi_step(sc, foc_sub_q15(sc->ramped, speed_meas));

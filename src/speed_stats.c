@@ -5,6 +5,7 @@
 static int32_t square_64(q15_t x)
 {
     const int32_t sq = (int32_t)x * (int32_t)x;
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     return (sq + ((int32_t)1 << (FOC_SPEED_STATS_LOG2 - 1u))) >> FOC_SPEED_STATS_LOG2;
 }
 
@@ -35,6 +36,7 @@ void foc_speed_stats_push(foc_speed_stats_t *s, q15_t x)
 q15_t foc_speed_stats_mean(const foc_speed_stats_t *s)
 {
     /* sum in [-2^21, 64 x 32767]: the rounded mean fits Q15. */
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     return (q15_t)((s->sum + ((int32_t)1 << (FOC_SPEED_STATS_LOG2 - 1u))) >>
                    FOC_SPEED_STATS_LOG2);
 }
@@ -45,8 +47,11 @@ int32_t foc_speed_stats_mean_sq(const foc_speed_stats_t *s)
      * mu^2 = q^2 + (128 q r + r^2) / 4096, the second term rounded
      * (|128 q r| < 2^29).  |q| <= 2^15 so q^2 <= 2^30; at the extremes of
      * sum r = 0, so the total stays <= 2^30. */
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const int32_t q = s->sum >> FOC_SPEED_STATS_LOG2;
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     const int32_t r = s->sum - q * (int32_t)FOC_SPEED_STATS_N;
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const int32_t mu2 = q * q + ((128 * q * r + r * r + 2048) >> 12);
     return (mu2 > 0) ? mu2 : 0;
 }
@@ -64,8 +69,10 @@ uint8_t foc_speed_stats_reliable(const foc_speed_stats_t *s, q15_t threshold)
     }
     /* mu^2 x threshold, Q30: mu^2 split at bit 15 so each product < 2^30. */
     const int32_t mu2 = foc_speed_stats_mean_sq(s);
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const int32_t hi = mu2 >> 15;
     const int32_t lo = mu2 & 0x7FFF;
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const int32_t limit = hi * (int32_t)threshold + ((lo * (int32_t)threshold) >> 15);
     return (uint8_t)(foc_speed_stats_variance(s) <= limit);
 }

@@ -44,7 +44,9 @@ uint16_t foc_isqrt32(uint32_t x)
 q15_t foc_mag_q15(q15_t x, q15_t y)
 {
     /* Sum of squares, Q30, at most 2 * 2^30 = 2^31: fits uint32_t. */
+    /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
     const uint32_t sq = (uint32_t)((int32_t)x * (int32_t)x)
+                      /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
                       + (uint32_t)((int32_t)y * (int32_t)y);
     const uint16_t m = foc_isqrt32(sq); /* Q15, rounded down, <= 46341 */
     return (m > 32767u) ? Q15_MAX : (q15_t)m;

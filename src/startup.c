@@ -28,8 +28,10 @@ uint8_t foc_startup_align_tick(foc_startup_t *s)
      * jump, 2.05 A turned, for a 2.1 A limit) */
     const int32_t pos = (int32_t)s->theta32; /* signed: -90 .. +90 deg */
     if (pos > FOC_ALIGN_TURN_STEP32) {
+        /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
         s->theta32 = (uint32_t)(pos - FOC_ALIGN_TURN_STEP32);
     } else if (pos < -FOC_ALIGN_TURN_STEP32) {
+        /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
         s->theta32 = (uint32_t)(pos + FOC_ALIGN_TURN_STEP32);
     } else {
         s->theta32 = 0;
@@ -56,6 +58,7 @@ void foc_startup_ramp_tick(foc_startup_t *s, q15_t speed_limit)
     } else {
         s->speed16 = target;
     }
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     s->speed = (q15_t)(s->speed16 >> 16);
     if (s->ticks < FOC_OL_RAMP_TICKS) {
         s->ticks++;
@@ -67,5 +70,6 @@ void foc_startup_ramp_tick(foc_startup_t *s, q15_t speed_limit)
 
 void foc_startup_fast(foc_startup_t *s)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
     s->theta32 += (uint32_t)((int32_t)s->speed * FOC_THETA32_PER_SPEED);
 }

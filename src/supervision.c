@@ -26,11 +26,13 @@ uint16_t foc_sup_thermal(foc_supervision_t *s, foc_dq_t i_dq)
 {
     /* id^2 + iq^2 (Q30, <= 2^31) as Q15 of I_base^2, at most 1.0 (the ADC
      * measures no more), then (I / I_rated)^2 in Q20 (<= 2^29). */
+    /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
     const uint32_t sq = (uint32_t)((int32_t)i_dq.d * i_dq.d) + (uint32_t)((int32_t)i_dq.q * i_dq.q);
     const q15_t x15 = (sq >= (uint32_t)32767 << 15) ? Q15_MAX : (q15_t)(sq >> 15);
     const int32_t target = foc_mul_norm32(x15, FOC_I2T_MANT, FOC_I2T_RSHIFT);
     /* heat += (target - heat) Ts / tau: |difference| < 2^30 times a Q30
      * constant needs 64 bits (once per slow tick). */
+    /* cppcheck-suppress [misra-c2012-10.1, misra-c2012-10.8] ; D1 Q-format shift, D2 compile-time constant */
     s->heat += (int32_t)(((int64_t)(target - s->heat) * FOC_I2T_K_Q30) >> 30);
     return (s->heat >= FOC_I2T_TRIP) ? (uint16_t)FOC_FAULT_MOTOR_OVERLOAD : 0u;
 }
@@ -84,7 +86,7 @@ uint16_t foc_sup_follow(foc_supervision_t *s, q15_t command, q15_t speed, q15_t 
     s->follow_ticks = 0;
     s->follow_sum = 0;
     s->follow_last = mean;
-    const int32_t progress = fast ? FOC_FOLLOW_PROGRESS_FAST : FOC_FOLLOW_PROGRESS_SLOW;
+    const int32_t progress = fast ? (int32_t)FOC_FOLLOW_PROGRESS_FAST : (int32_t)FOC_FOLLOW_PROGRESS_SLOW;
     /* gaining: the speed moved toward the command's direction (a heavy
      * load accelerating), however far the command is and wherever it
      * moved meanwhile */

@@ -48,12 +48,15 @@ FOC_STATIC_ASSERT(BOARD_PLL_N2 == 2u, "main.c sets PLLPOST for N2 = 2 only");
 #define BOARD_PTPER ((uint16_t)(BOARD_FCY_HZ / (2u * BOARD_PWM_HZ) - 1u))
 #define BOARD_DEADTIME_TCY ((uint16_t)(PWM_DEADTIME_S * (double)BOARD_FCY_HZ + 0.5))
 
+/* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
 FOC_STATIC_ASSERT(BOARD_FCY_HZ % (2u * BOARD_PWM_HZ) == 0u,
                   "PWM_FREQUENCY_HZ: Fcy / (2 Fpwm) must be a whole number "
                   "of instruction cycles");
+/* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
 FOC_STATIC_ASSERT(BOARD_FCY_HZ / (2u * BOARD_PWM_HZ) >= 3u &&
                   BOARD_FCY_HZ / (2u * BOARD_PWM_HZ) <= 0x7FFFu,
                   "PWM_FREQUENCY_HZ out of the MCPWM period range");
+/* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
 FOC_STATIC_ASSERT(PWM_DEADTIME_S * (double)BOARD_FCY_HZ <= 504.0,
                   "PWM_DEADTIME_S above 63 x 8 Tcy");
 
@@ -65,7 +68,7 @@ FOC_STATIC_ASSERT(PWM_DEADTIME_S * (double)BOARD_FCY_HZ <= 504.0,
 /* Fault A: the board's over-current comparator, active low, on RP8 (RB8,
  * pin 44), routed to FLTA1 by peripheral pin select. */
 #define BOARD_FLTA_RP 8u
-#define BOARD_FLTA_PORTB_MASK (1u << 8)
+#define BOARD_FLTA_PORTB_MASK ((uint16_t)1u << 8)
 
 /* ------------------------------------------------------------- ADC -- */
 /* Simultaneous sampling of CH0..CH3, 10-bit, signed fractional:
@@ -73,7 +76,7 @@ FOC_STATIC_ASSERT(PWM_DEADTIME_S * (double)BOARD_FCY_HZ <= 504.0,
  * CH2 = AN1 phase B current (RA1), CH3 = AN2 bus voltage (RB0).
  * Results: ADC1BUF0 = CH0 .. ADC1BUF3 = CH3. */
 #define BOARD_ADC_CH0_AN 8u
-#define BOARD_ADC_ANALOG_PINS ((1u << 0) | (1u << 1) | (1u << 2) | (1u << 8))
+#define BOARD_ADC_ANALOG_PINS ((1u << 0) | (1u << 1) | (1u << 2) | ((uint16_t)1u << 8))
 #define BOARD_ADC_BUF_POT 0u
 #define BOARD_ADC_BUF_IA 1u
 #define BOARD_ADC_BUF_IB 2u
@@ -113,10 +116,10 @@ FOC_STATIC_ASSERT((BOARD_ADC_ADCS + 1u) * 1000000000uL / BOARD_FCY_HZ >= 76u,
 
 /* ------------------------------------------------ buttons and LEDs -- */
 /* Push buttons, active low (pressed = 0): S2 on RA8, S3 on RB4. */
-#define BOARD_S2_PORTA_MASK (1u << 8)
+#define BOARD_S2_PORTA_MASK ((uint16_t)1u << 8)
 #define BOARD_S3_PORTB_MASK (1u << 4)
 /* LEDs, active high: "run" on RA10, "field-weakening range" on RA7. */
-#define BOARD_LED_RUN_LATA_MASK (1u << 10)
+#define BOARD_LED_RUN_LATA_MASK ((uint16_t)1u << 10)
 #define BOARD_LED_FW_LATA_MASK (1u << 7)
 
 /* ---------------------------------------------------- speed command -- */
@@ -130,6 +133,7 @@ FOC_STATIC_ASSERT((BOARD_ADC_ADCS + 1u) * 1000000000uL / BOARD_FCY_HZ >= 76u,
 
 FOC_STATIC_ASSERT(SPEED_BASE_RPM >= 1.0 && SPEED_BASE_RPM <= 65535.0,
                   "the monitor converts rpm with SPEED_BASE_RPM in 1..65535");
+/* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
 FOC_STATIC_ASSERT(BOARD_POT_MIN_RPM <= BOARD_POT_MAX_RPM &&
                   BOARD_POT_MAX_RPM <= BOARD_POT_MAX_FW_RPM,
                   "BOARD_POT_MIN_RPM must not exceed MOTOR_NOMINAL_SPEED_RPM");

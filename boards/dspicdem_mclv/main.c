@@ -41,6 +41,7 @@ static uint8_t pending_byte;
 /* -------------------------------------------------------- speed command -- */
 static int32_t range_max_rpm(void)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     return (fw_range != 0u) ? BOARD_POT_MAX_FW_RPM : BOARD_POT_MAX_RPM;
 }
 
@@ -48,6 +49,7 @@ static void command_speed(int32_t rpm)
 {
     const int32_t max = range_max_rpm();
     const int32_t ref_rpm = (rpm > max) ? max : (rpm < -max) ? -max : rpm;
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     foc_cmd_speed(&ctrl, mclv_rpm_to_q15(ref_rpm, BOARD_SPEED_BASE_RPM));
     pot_speed = ctrl.req.speed; /* as the core took it (raised to its minimum) */
 }
@@ -60,6 +62,7 @@ static void command_speed(int32_t rpm)
 static void collect(void)
 {
     dspic_stats_t st;
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     const uint32_t period = (uint32_t)(BOARD_TIMESTAMP_HZ / BOARD_PWM_HZ);
     dspic_fast_stats(&st);
     mon.cpu_load_q15 = ((uint32_t)st.avg >= period)

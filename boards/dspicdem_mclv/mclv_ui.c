@@ -45,6 +45,7 @@ int32_t mclv_pot_to_rpm(q15_t pot, int32_t min_rpm, int32_t max_rpm)
         return min_rpm;
     }
     /* span <= 65535, pot <= 32767: the product < 2^31 */
+    /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
     const uint32_t span = (uint32_t)(max_rpm - min_rpm);
     return min_rpm + (int32_t)(((uint32_t)pot * span) >> 15);
 }
@@ -75,6 +76,7 @@ q15_t mclv_rpm_to_q15(int32_t rpm, int32_t base_rpm)
     }
     /* mag < base <= 65535: mag x 32768 < 2^31 */
     const uint32_t base = (uint32_t)base_rpm;
+    /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
     const int32_t q = (int32_t)((mag * 32768u + base / 2u) / base);
     return foc_sat_q15((neg != 0u) ? -q : q);
 }

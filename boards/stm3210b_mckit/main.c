@@ -143,14 +143,14 @@ int main(void)
         last_poll = now;
         polls++;
         const foc_state_t s = ctrl.state;
-        if (button_pressed(&key)) {
+        if (button_pressed(&key) != 0u) {
             if (s == FOC_STATE_IDLE) {
                 foc_cmd_start(&ctrl);
             } else {
                 foc_cmd_stop(&ctrl);
             }
         }
-        if (button_pressed(&sel)) {
+        if (button_pressed(&sel) != 0u) {
             foc_cmd_ack(&ctrl);
         }
         leds_show(s, polls);

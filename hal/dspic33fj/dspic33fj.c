@@ -55,6 +55,7 @@ static const dspic_regs_t regs = {
 
 static const dspic_port_cfg_t cfg = {
     &regs,
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     PDC_FULL,
     BOARD_ADC_BUF_IA,
     BOARD_ADC_BUF_IB,
@@ -84,7 +85,9 @@ void DSPIC_ISR _DefaultInterrupt(void);
 static void clock_init(void)
 {
     /* FRC at reset (FOSCSEL); program the PLL, then switch to XT + PLL. */
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     PLLFBD = (uint16_t)(BOARD_PLL_M - 2u);
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     CLKDIV = (uint16_t)(BOARD_PLL_N1 - 2u); /* PLLPOST = 0: N2 = 2 */
     __builtin_write_OSCCONH(OSC_PRIPLL);
     __builtin_write_OSCCONL((uint8_t)(OSCCON | OSCCON_OSWEN));
@@ -96,11 +99,13 @@ static void clock_init(void)
 
 static void pps_init(void)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
     __builtin_write_OSCCONL((uint8_t)(OSCCON & (uint16_t)~OSCCON_IOLOCK));
     RPINR12bits.FLTA1R = BOARD_FLTA_RP;
     RPINR18bits.U1RXR = BOARD_U1RX_RP;
     RPOR10bits.RP20R = RPOR_U1TX;
     __builtin_write_OSCCONL((uint8_t)(OSCCON | OSCCON_IOLOCK));
+    /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
     TRISC = (uint16_t)((TRISC | BOARD_U1RX_TRISC_MASK) & (uint16_t)~BOARD_U1TX_TRISC_MASK);
 }
 
@@ -108,15 +113,21 @@ static void pwm_init(void)
 {
     P1TCON = 0;
     P1TMR = 0;
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     P1TPER = BOARD_PTPER;
     P1OVDCON = DSPIC_OVD_ALL_OFF; /* first: pins stay off when handed over */
     PWM1CON2 = PWM1CON2_VALUE;
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     P1DTCON1 = dspic_deadtime_dtcon(BOARD_DEADTIME_TCY);
     P1DTCON2 = 0;
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     P1DC1 = (uint16_t)(PDC_FULL / 2u);
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     P1DC2 = (uint16_t)(PDC_FULL / 2u);
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     P1DC3 = (uint16_t)(PDC_FULL / 2u);
     /* counting up (SEVTDIR = 0), just before the top */
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     P1SECMP = (uint16_t)(BOARD_PTPER - BOARD_ADC_TRIGGER_OFFSET_TCY);
     P1FLTACON = P1FLTACON_LATCHED;
     PWM1CON1 = PWM1CON1_COMPL_ALL;

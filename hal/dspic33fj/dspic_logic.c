@@ -160,7 +160,7 @@ void dspic_stats_add(dspic_stats_t *st, uint32_t start, uint32_t end)
     }
     st->sum += d;
     st->count++;
-    if (st->count >= (1u << DSPIC_STATS_LOG2)) {
+    if (st->count >= ((uint16_t)1u << DSPIC_STATS_LOG2)) {
         st->avg = (uint16_t)((st->sum + (1uL << (DSPIC_STATS_LOG2 - 1u))) >> DSPIC_STATS_LOG2);
         st->sum = 0;
         st->count = 0;

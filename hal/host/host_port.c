@@ -30,6 +30,7 @@ host_port_t *host_port(void)
 /* ADC code (0 .. 2^bits - 1, mid-scale = 0) to signed Q15 of full scale. */
 static q15_t bipolar_code_to_q15(int32_t code)
 {
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const int32_t mid = 1L << (port.model->p.adc_bits - 1);
     return foc_sat_q15((code - mid) * (32768L / mid));
 }
@@ -38,6 +39,7 @@ static q15_t bipolar_code_to_q15(int32_t code)
  * board's resolution, to Q15 [0, 32767]. */
 static q15_t unipolar_to_q15(double fraction)
 {
+    /* cppcheck-suppress [misra-c2012-10.1, misra-c2012-10.8] ; D1 Q-format shift, D4 value in range */
     const double levels = (double)(1L << BOARD_ADC_BITS);
     double code = floor(fraction * levels);
     if (code < 0.0) {
@@ -77,6 +79,7 @@ void foc_port_read_samples(foc_samples_t *s)
     s->temp = unipolar_to_q15((BOARD_TEMP_V_AT_0C + BOARD_TEMP_V_PER_DEGC * port.temp_degc) /
                               BOARD_ADC_VREF_V);
     s->pot = unipolar_to_q15(port.pot_fraction);
+    /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
     s->theta_sensor = (uint16_t)((uint32_t)(m.theta_e_rad * (65536.0 / (2.0 * FOC_PI_D))) & 0xFFFFu);
 }
 

@@ -29,6 +29,7 @@ typedef union {
 
 #define DEF { Default_Handler }
 
+extern const vector_t vector_table[16 + IRQ_COUNT]; /* declared before its definition (8.4) */
 __attribute__((section(".isr_vector"), used))
 const vector_t vector_table[16 + IRQ_COUNT] = {
     { .stack_top = &_estack },
@@ -65,7 +66,7 @@ const vector_t vector_table[16 + IRQ_COUNT] = {
 
 static void bridge_off(void)
 {
-    TIM1->BDTR = (uint16_t)(TIM1->BDTR & ~TIM_BDTR_MOE);
+    TIM1->BDTR = (uint16_t)(TIM1->BDTR & (uint16_t)~TIM_BDTR_MOE);
 }
 
 /* The loops stay loops: no memcpy/memset call before .data and .bss
@@ -74,10 +75,12 @@ __attribute__((optimize("no-tree-loop-distribute-patterns")))
 void Reset_Handler(void)
 {
     const uint32_t *src = &_sidata;
-    for (uint32_t *dst = &_sdata; dst < &_edata;) {
+    uint32_t *dst = &_sdata;
+    while (dst < &_edata) {
         *dst++ = *src++;
     }
-    for (uint32_t *dst = &_sbss; dst < &_ebss;) {
+    dst = &_sbss;
+    while (dst < &_ebss) {
         *dst++ = 0u;
     }
     SCB->VTOR = (uint32_t)(uintptr_t)vector_table;

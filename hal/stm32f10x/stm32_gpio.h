@@ -25,7 +25,7 @@ static inline void stm32_gpio_mode(GPIO_TypeDef *g, uint32_t pin, uint32_t mode)
 static inline void stm32_gpio_write(GPIO_TypeDef *g, uint32_t pin, uint8_t high)
 {
     /* BSRR sets, BRR resets: single atomic stores. */
-    if (high) {
+    if (high != 0u) {
         g->BSRR = 1ul << pin;
     } else {
         g->BRR = 1ul << pin;

@@ -35,9 +35,9 @@ uint8_t stm32_unread_phase(uint8_t sector)
 uint32_t stm32_jsqr(const uint8_t *ch, uint8_t n)
 {
     /* n conversions use JSQ(5-n)..JSQ4 (RM0008, ADC_JSQR), 5 bits each. */
-    uint32_t v = (uint32_t)(n - 1u) << 20;
+    uint32_t v = ((uint32_t)n - 1u) << 20;
     for (uint8_t i = 0; i < n; i++) {
-        const uint32_t slot = 4u - n + i;
+        const uint32_t slot = (uint32_t)4u - n + i;
         v |= ((uint32_t)ch[i] & 0x1Fu) << (5u * slot);
     }
     return v;
@@ -74,7 +74,7 @@ LOGIC_INLINE uint8_t sample_window(int32_t p, int32_t cx, int32_t cm, int32_t ta
         cx - tb,     /* 3. before the unread phase's first edge */
     };
     for (unsigned i = 0; i < 3u; i++) {
-        if (window_clean(candidates[i], p, cx, cm, ta, tb)) {
+        if (window_clean(candidates[i], p, cx, cm, ta, tb) != 0) {
             *s = candidates[i];
             return 1u;
         }
@@ -153,7 +153,7 @@ void stm32_plan_pwm(stm32_plan_t *p, const foc_duty_t *d, const stm32_timing_t *
 /* JSQR of a four-conversion sequence a, b, c, d (JL = 3: JSQ1..JSQ4). */
 static uint32_t jsqr4(uint32_t a, uint32_t b, uint32_t c, uint32_t d)
 {
-    return (3u << 20) | a | (b << 5) | (c << 10) | (d << 15);
+    return ((uint32_t)3u << 20) | a | (b << 5) | (c << 10) | (d << 15);
 }
 
 /* Trigger on the way up, lead counts before the window start s; not earlier
@@ -220,6 +220,8 @@ void stm32_plan_pwm_top(stm32_plan_t *p, const uint16_t ccr_up[3], const foc_dut
             r1 = x;
         } else if ((valid & PHASE_BIT(r2)) == 0u) {
             r2 = x;
+        } else {
+            /* both read phases valid: the plan stays */
         }
     }
     p->phases = (uint8_t)((PHASE_BIT(r1) | PHASE_BIT(r2)) & valid);
@@ -273,7 +275,7 @@ void stm32_plan_all_phases_four(stm32_plan_t *p, const stm32_timing_t *t,
                                 uint16_t lead)
 {
     stm32_plan_all_phases(p, t, m, trigger_cc4);
-    p->window_start = (uint16_t)set_trigger_lead(p, (int32_t)t->period - t->tw_before / 2,
+    p->window_start = (uint16_t)set_trigger_lead(p, (int32_t)t->period - (int32_t)t->tw_before / 2,
                                                  (int32_t)t->period, (int32_t)lead);
     p->jsqr1 = jsqr4(m->vbus, m->phase[2], m->phase[0], m->vbus);
     p->jsqr2 = jsqr4(m->pot, m->pot, m->phase[1], m->temp);
@@ -281,8 +283,9 @@ void stm32_plan_all_phases_four(stm32_plan_t *p, const stm32_timing_t *t,
 
 q15_t stm32_current_from_jdr(uint32_t jdr, uint8_t inverted)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
     int32_t v = (int32_t)(jdr & 0x7FFFu) - JDR_MID;
-    if (inverted) {
+    if (inverted != 0u) {
         v = -v;
     }
     return foc_sat_q15(v * 2);
@@ -290,6 +293,7 @@ q15_t stm32_current_from_jdr(uint32_t jdr, uint8_t inverted)
 
 q15_t stm32_unipolar_from_jdr(uint32_t jdr)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
     return (q15_t)(jdr & 0x7FFFu);
 }
 
@@ -299,7 +303,7 @@ void stm32_samples_from_jdr(const stm32_plan_t *p, const stm32_adc_map_t *m,
 {
     q15_t i[3] = { 0, 0, 0 };
     s->vdc = stm32_unipolar_from_jdr(jdr1[1]);
-    if (p->all_phases) {
+    if (p->all_phases != 0u) {
         i[0] = stm32_current_from_jdr(jdr1[0], m->current_inverted);
         i[1] = stm32_current_from_jdr(jdr2[0], m->current_inverted);
         i[2] = stm32_current_from_jdr(jdr1[2], m->current_inverted);
@@ -308,7 +312,7 @@ void stm32_samples_from_jdr(const stm32_plan_t *p, const stm32_adc_map_t *m,
     } else {
         i[p->adc1_phase] = stm32_current_from_jdr(jdr1[0], m->current_inverted);
         i[p->adc2_phase] = stm32_current_from_jdr(jdr2[0], m->current_inverted);
-        if (p->aux_is_pot) {
+        if (p->aux_is_pot != 0u) {
             held->pot = stm32_unipolar_from_jdr(jdr2[1]);
         } else {
             held->temp = stm32_unipolar_from_jdr(jdr2[1]);
@@ -337,10 +341,10 @@ void stm32_load_plan(TIM_TypeDef *tim, ADC_TypeDef *adc1, ADC_TypeDef *adc2,
     tim->CCR2 = p->ccr[1];
     tim->CCR3 = p->ccr[2];
     tim->CCR4 = p->ccr4;
-    if (p->ccr4_down) {
+    if (p->ccr4_down != 0u) {
         tim->CCER = (uint16_t)(tim->CCER | TIM_CCER_CC4P);
     } else {
-        tim->CCER = (uint16_t)(tim->CCER & ~TIM_CCER_CC4P);
+        tim->CCER = (uint16_t)(tim->CCER & (uint16_t)~TIM_CCER_CC4P);
     }
     adc1->JSQR = p->jsqr1;
     adc2->JSQR = p->jsqr2;
@@ -391,6 +395,7 @@ uint32_t stm32_deadtime_counts(uint8_t dtg)
 
 uint16_t stm32_debug_ccr(q15_t v, uint16_t arr)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
     const uint32_t u = (uint32_t)((int32_t)v + 32768); /* 0..65535 */
     return (uint16_t)((u * ((uint32_t)arr + 1u)) >> 16);
 }

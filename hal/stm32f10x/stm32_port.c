@@ -28,21 +28,25 @@
 #define LEAD_COUNTS                                                            \
     ((uint16_t)(2.0 * (BOARD_ADC_SAMPLE_CYCLES + 12.5) * BOARD_SYSCLK_HZ /      \
                     BOARD_ADC_CLOCK_HZ + 0.5))
-#define SLOW_TICK_CYCLES (2ul * PWM_PERIOD * CONTROL_SLOW_DIVIDER)
+#define SLOW_TICK_CYCLES (2UL * PWM_PERIOD * (uint32_t)CONTROL_SLOW_DIVIDER)
 
 FOC_STATIC_ASSERT(PWM_PERIOD_D >= 200.0 && PWM_PERIOD_D <= 65535.0,
                   "PWM_FREQUENCY_HZ out of TIM1's range at 72 MHz (550 Hz .. 180 kHz)");
+/* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
 FOC_STATIC_ASSERT(PWM_PERIOD_D - PWM_PERIOD < 1e-3 * PWM_PERIOD_D &&
                   PWM_PERIOD - PWM_PERIOD_D < 1e-3 * PWM_PERIOD_D,
                   "PWM_FREQUENCY_HZ: 72 MHz / (2 x PWM_FREQUENCY_HZ) must be an "
                   "integer within 0.1 % (the core's constants assume the exact rate)");
 FOC_STATIC_ASSERT(PWM_DEADTIME_S * BOARD_SYSCLK_HZ <= 1008.0,
                   "PWM_DEADTIME_S longer than TIM1's dead-time generator (14 us)");
-FOC_STATIC_ASSERT(TW_AFTER + 2 * TW_BEFORE < PWM_PERIOD / 2,
+/* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+FOC_STATIC_ASSERT(TW_AFTER + 2u * TW_BEFORE < PWM_PERIOD / 2u,
                   "PWM_FREQUENCY_HZ too high for the dead time and shunt settling time");
-FOC_STATIC_ASSERT(LEAD_COUNTS + TW_BEFORE < PWM_PERIOD / 2,
+/* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+FOC_STATIC_ASSERT(LEAD_COUNTS + TW_BEFORE < PWM_PERIOD / 2u,
                   "PWM_FREQUENCY_HZ too high for the four-conversion ADC sequences");
-FOC_STATIC_ASSERT(SLOW_TICK_CYCLES <= 0x1000000ul,
+/* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+FOC_STATIC_ASSERT(SLOW_TICK_CYCLES <= 0x1000000UL,
                   "CONTROL_SLOW_DIVIDER too large for SysTick at this PWM frequency");
 
 /* STM32_UPDATE_AT_TOP (1, the default; 0 for the former update-at-bottom
@@ -82,6 +86,7 @@ FOC_STATIC_ASSERT(SLOW_TICK_CYCLES <= 0x1000000ul,
 #define OC3_FORCE_LOW TIM_CCMR2_OC3M_2
 #define OC4_PWM2 (TIM_CCMR2_OC4M_2 | TIM_CCMR2_OC4M_1 | TIM_CCMR2_OC4M_0)
 
+/* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
 static const stm32_timing_t timing = { PWM_PERIOD, TW_AFTER, TW_BEFORE };
 static const stm32_adc_map_t adc_map = {
     { BOARD_ADC_CH_IA, BOARD_ADC_CH_IB, BOARD_ADC_CH_IC },
@@ -129,8 +134,8 @@ static void set_output_modes(uint8_t force_low_sides)
 {
     const uint16_t m1 = force_low_sides ? OC123_FORCE_LOW : OC123_PWM1;
     const uint16_t m3 = force_low_sides ? OC3_FORCE_LOW : OC3_PWM1;
-    TIM1->CCMR1 = (uint16_t)((TIM1->CCMR1 & ~(TIM_CCMR1_OC1M | TIM_CCMR1_OC2M)) | m1);
-    TIM1->CCMR2 = (uint16_t)((TIM1->CCMR2 & ~TIM_CCMR2_OC3M) | m3);
+    TIM1->CCMR1 = (uint16_t)((TIM1->CCMR1 & (uint16_t)~(TIM_CCMR1_OC1M | TIM_CCMR1_OC2M)) | m1);
+    TIM1->CCMR2 = (uint16_t)((TIM1->CCMR2 & (uint16_t)~TIM_CCMR2_OC3M) | m3);
 }
 
 static uint8_t outputs_on(void)
@@ -177,7 +182,7 @@ void foc_port_pwm_enable(void)
 void foc_port_pwm_disable(void)
 {
     const uint32_t m = irq_save();
-    TIM1->BDTR = (uint16_t)(TIM1->BDTR & ~TIM_BDTR_MOE);
+    TIM1->BDTR = (uint16_t)(TIM1->BDTR & (uint16_t)~TIM_BDTR_MOE);
     low_sides = 0u;
     set_output_modes(0u);
     apply_plan(&plan_off, 0u);
@@ -277,6 +282,7 @@ void ADC1_2_IRQHandler(void)
     const uint8_t cc4 = armed.trigger_cc4;
     /* A CC4-triggered conversion ends near the top of the count; one seen
      * early on the way up did not come from the planned trigger. */
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     if (cc4 && (TIM1->CR1 & TIM_CR1_DIR) == 0u && TIM1->CNT < PWM_PERIOD / 2u) {
         stats.spurious++;
         return;
@@ -300,7 +306,7 @@ void TIM1_BRK_IRQHandler(void)
 {
     /* The hardware has already cleared MOE.  BIF stays set while the input
      * is active, so the interrupt is re-enabled only by the clear. */
-    TIM1->DIER = (uint16_t)(TIM1->DIER & ~TIM_DIER_BIE);
+    TIM1->DIER = (uint16_t)(TIM1->DIER & (uint16_t)~TIM_DIER_BIE);
     oc_latched = 1u;
     low_sides = 0u;
     set_output_modes(0u);
@@ -335,6 +341,7 @@ static void setup_tim1(void)
     TIM1->CR1 = TIM_CR1_CMS_1 | TIM_CR1_ARPE;
     TIM1->CR2 = TIM_CR2_MMS_1;                /* TRGO = update; idle low */
     TIM1->PSC = 0u;
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     TIM1->ARR = PWM_PERIOD;
     TIM1->RCR = 1u; /* one update per period */
     TIM1->CCMR1 = (uint16_t)(OC123_PWM1 | TIM_CCMR1_OC1PE | TIM_CCMR1_OC2PE);
@@ -343,6 +350,7 @@ static void setup_tim1(void)
                  TIM_CCER_CC3E | TIM_CCER_CC3NE | TIM_CCER_CC4E;
     /* Dead time, break input active low, outputs driven to their idle
      * (off) level while MOE = 0, MOE only by software, then locked. */
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     TIM1->BDTR = (uint16_t)(stm32_deadtime_dtg(DEADTIME_COUNTS) | TIM_BDTR_LOCK_0 |
                             TIM_BDTR_OSSI | TIM_BDTR_OSSR | TIM_BDTR_BKE);
     TIM1->CCR1 = plan_off.ccr[0];
@@ -370,6 +378,7 @@ static uint8_t next_update_at_bottom(void)
     TIM1->SR = 0u;
     const uint32_t t0 = DWT->CYCCNT;
     while ((TIM1->SR & TIM_SR_UIF) == 0u) {
+        /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
         if (DWT->CYCCNT - t0 > 4u * PWM_PERIOD) {
             return 2u;
         }
@@ -377,7 +386,7 @@ static uint8_t next_update_at_bottom(void)
     const uint32_t cnt = TIM1->CNT; /* 32 bits wide in STM32Cube's headers */
     const uint8_t bottom = (uint8_t)((TIM1->CR1 & TIM_CR1_DIR) == 0u && cnt < PWM_PERIOD / 2u);
     /* with STM32_UPDATE_AT_TOP the wanted end of the count is the top */
-    return (uint8_t)(STM32_UPDATE_AT_TOP ? !bottom : bottom);
+    return STM32_UPDATE_AT_TOP ? (uint8_t)(bottom == 0u) : bottom;
 }
 
 /* Starts TIM1 with its update (new compare values, TRGO) at the bottom of
@@ -480,7 +489,9 @@ uint8_t stm32_port_init(foc_ctrl_t *c)
 {
     ctrl = c;
     stm32_seq4_init(&seq4, &adc_map);
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     stm32_plan_all_phases_four(&plan_off, &timing, &adc_map, 0u, LEAD_COUNTS);
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     stm32_plan_all_phases_four(&plan_on_all, &timing, &adc_map, 1u, LEAD_COUNTS);
     stats.min = UINT32_MAX;
 
@@ -511,6 +522,7 @@ uint8_t stm32_port_init(foc_ctrl_t *c)
 
     /* The slow tick: exactly CONTROL_SLOW_DIVIDER PWM periods of the same
      * clock, so it never drifts against the fast step. */
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     SysTick->LOAD = SLOW_TICK_CYCLES - 1u;
     SysTick->VAL = 0u;
     SysTick->CTRL = SysTick_CTRL_CLKSOURCE_Msk | SysTick_CTRL_TICKINT_Msk |
@@ -541,5 +553,6 @@ uint32_t stm32_port_slow_ticks(void)
 
 uint32_t stm32_port_period_cycles(void)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     return 2u * PWM_PERIOD;
 }

@@ -48,7 +48,9 @@ typedef struct {
 
 #include <stdint.h>
 
+/* cppcheck-suppress misra-c2012-21.1 ; D5 toolchain name */
 #define __IO volatile
+/* cppcheck-suppress misra-c2012-21.1 ; D5 toolchain name */
 #define __NVIC_PRIO_BITS 4u
 
 /* ------------------------------------------------------ interrupt numbers */
@@ -411,7 +413,9 @@ static inline void foc_stm32_set_primask(uint32_t m)
     __asm volatile("msr primask, %0" : : "r"(m) : "memory");
 }
 
+/* cppcheck-suppress misra-c2012-21.1 ; D5 toolchain name */
 #define __get_PRIMASK() foc_stm32_get_primask()
+/* cppcheck-suppress misra-c2012-21.1 ; D5 toolchain name */
 #define __set_PRIMASK(m) foc_stm32_set_primask(m)
 #endif
 #endif /* STM32F10X_REGS_H */

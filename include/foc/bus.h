@@ -35,7 +35,9 @@ void foc_bus_update(foc_bus_t *bus, q15_t vdc);
 static inline foc_ab_t foc_bus_compensate(const foc_bus_t *bus, foc_ab_t v)
 {
     foc_ab_t out;
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     out.alpha = foc_sat_q15(((int32_t)v.alpha * bus->comp_q14 + (int32_t)8192) >> 14);
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     out.beta = foc_sat_q15(((int32_t)v.beta * bus->comp_q14 + (int32_t)8192) >> 14);
     return out;
 }

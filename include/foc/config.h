@@ -756,7 +756,7 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
 #define FOC_COMM_I_LOW FOC_I_Q15(FOC_COMM_I_HIGH_A / 2.0)
 /* Means over 2^FOC_COMM_SUM_LOG2 periods (sums of Q15 within 2^27). */
 #define FOC_COMM_SUM_LOG2 12
-#define FOC_COMM_SUM_N ((uint16_t)(1u << FOC_COMM_SUM_LOG2))
+#define FOC_COMM_SUM_N ((uint16_t)((uint16_t)1u << FOC_COMM_SUM_LOG2))
 /* The currents' electrical settling before a sum, and the rotor's after
  * the alignment (as long as the alignment itself). */
 #define FOC_COMM_SETTLE_TICKS FOC_TICKS(0.03)
@@ -839,7 +839,7 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
  * current changes by 2.3 mA, 0.27 codes, between the speeds). */
 #define FOC_COMM_MECH_SUM_LOG2 \
     (BOARD_ADC_BITS >= 12 ? 13 : BOARD_ADC_BITS <= 10 ? 15 : 13 + (12 - BOARD_ADC_BITS))
-#define FOC_COMM_MECH_SUM_N ((uint16_t)(1u << FOC_COMM_MECH_SUM_LOG2))
+#define FOC_COMM_MECH_SUM_N ((uint16_t)((uint16_t)1u << (unsigned)FOC_COMM_MECH_SUM_LOG2))
 /* Kt of the parameters (Nm/A) and the accelerations (rpm/s) */
 #define FOC_KT_NM_PER_A (1.5 * MOTOR_POLE_PAIRS * FOC_FLUX_WB)
 #define FOC_COMM_MECH_ACCEL_J_RPM_S \
@@ -1125,8 +1125,8 @@ FOC_STATIC_ASSERT(FOC_PROBE_SPACING * FOC_DTHETA_AT_BASE * MOTOR_MAX_SPEED_RPM *
 #define FOC_I2T_MANT FOC_NORM_MANT(FOC_I2T_X)
 #define FOC_I2T_RSHIFT FOC_NORM_RSHIFT(FOC_I2T_X)
 #define FOC_I2T_K_Q30 ((int32_t)(FOC_SLOW_TS_S / MOTOR_THERMAL_TIME_S * 1073741824.0 + 0.5))
-#define FOC_I2T_TRIP ((int32_t)1 << 20)
-#define FOC_I2T_CLEAR ((int32_t)1 << 19)
+#define FOC_I2T_TRIP ((int32_t)0x100000) /* 2^20 */
+#define FOC_I2T_CLEAR ((int32_t)0x80000) /* 2^19 */
 /* A rotor that does not follow: the speed loop at its current limit, the
  * speed below 7/8 of the command and not gaining on it, for this long
  * (two windows, above and below 10 % of the maximum speed; the speed loop

@@ -67,6 +67,7 @@ static inline uint8_t foc_cc_outside(q15_t v_max, q15_t vd, q15_t vq)
 static inline q15_t foc_cc_d_axis(foc_current_ctrl_t *cc, q15_t id_ref, q15_t id_meas,
                                   q15_t v_max, q15_t step)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     cc->pi_d.integ -= (int32_t)step * FOC_CURRENT_KREF_Q30;
     foc_pi_limit_next(&cc->pi_d, v_max);
     return foc_pi_step(&cc->pi_d, &foc_cc_gains, foc_sub_q15(id_ref, id_meas));
@@ -78,6 +79,7 @@ static inline q15_t foc_cc_d_axis(foc_current_ctrl_t *cc, q15_t id_ref, q15_t id
 static inline q15_t foc_cc_q_axis(foc_current_ctrl_t *cc, q15_t iq_ref, q15_t iq_meas,
                                   q15_t vd, q15_t v_max, q15_t step)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     cc->pi_q.integ -= (int32_t)step * FOC_CURRENT_KREF_Q30;
     const q15_t e_q = foc_sub_q15(iq_ref, iq_meas);
     const int32_t u_q = foc_pi_unsat(&cc->pi_q, &foc_cc_gains, e_q);
@@ -112,9 +114,11 @@ static inline q15_t foc_cc_q_forced(foc_current_ctrl_t *cc, q15_t vq, q15_t iq_m
         const q31_t lim = FOC_PI_Q15_TO_Q30(v_max);
         cc->pull_integ = (cc->pull_integ > lim) ? lim : (cc->pull_integ < -lim) ? -lim : cc->pull_integ;
     } else {
+        /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
         cc->pull_integ -= cc->pull_integ >> FOC_CC_PULL_LEAK_BITS;
     }
     const q15_t pull = foc_add_q15(foc_sat_q15(foc_pi_kp_term(&foc_cc_gains, excess)),
+                                   /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
                                    (q15_t)(cc->pull_integ >> 15));
     vq = foc_add_q15(vq, pull);
     vq = (vq > v_max) ? v_max : (vq < -v_max) ? (q15_t)-v_max : vq;
@@ -146,6 +150,7 @@ static inline void foc_cc_emf_feedforward(foc_current_ctrl_t *cc, q15_t speed, q
 {
     const q15_t old = cc->ff_speed;
     /* |speed - old| < 2^16: the step is a Q15 value */
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const q15_t step = (q15_t)(((int32_t)speed - old) >> FOC_CC_FF_FILTER_BITS);
     const q15_t now = (q15_t)(old + step);
     cc->ff_speed = now;
@@ -159,6 +164,8 @@ static inline void foc_cc_emf_feedforward(foc_current_ctrl_t *cc, q15_t speed, q
         const int32_t hi = foc_mul_q30_shift(now, emf_mant, emf_shift) + FOC_PI_Q15_TO_Q30(r_ilim);
         const int32_t cand = integ + foc_mul_q30_shift(step, emf_mant, emf_shift);
         cc->pi_q.integ = (cand <= hi) ? cand : (integ > hi) ? integ : hi;
+    } else {
+        /* speeding up, or no step: the PI follows on its own */
     }
 }
 

@@ -19,7 +19,7 @@ typedef enum {
     FOC_FAULT_SPEED_FEEDBACK = 1u << 5, /* the rotor does not follow */
     FOC_FAULT_OVERSPEED = 1u << 6,
     FOC_FAULT_MOTOR_OVERLOAD = 1u << 7, /* I2t: the winding would overheat */
-    FOC_FAULT_COMMISSION_FAILED = 1u << 8 /* a commissioning step failed */
+    FOC_FAULT_COMMISSION_FAILED = (uint16_t)1u << 8 /* a commissioning step failed */
                                           /* (controller.h comm.failed_step) */
 } foc_fault_t;
 

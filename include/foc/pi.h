@@ -63,6 +63,8 @@ static inline void foc_pi_clamp_integ(foc_pi_q15_t *pi)
         pi->integ = lo;
     } else if (pi->integ > hi) {
         pi->integ = hi;
+    } else {
+        /* within the limits */
     }
 }
 
@@ -105,13 +107,16 @@ static inline void foc_pi_preset(foc_pi_q15_t *pi, q15_t y0)
  * right by 15 - kp_shift, rounded; |Kp e| <= 2^30. */
 static inline int32_t foc_pi_kp_term(const foc_pi_gains_t *g, q15_t e)
 {
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const int32_t half = ((int32_t)1 << g->kp_rshift) >> 1; /* 0 for no shift */
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     return ((int32_t)g->kp * (int32_t)e + half) >> g->kp_rshift;
 }
 
 /* I + Kp e, the unsaturated output (Q15 held in 32 bits). */
 static inline int32_t foc_pi_unsat(const foc_pi_q15_t *pi, const foc_pi_gains_t *g, q15_t e)
 {
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     return (pi->integ >> 15) + foc_pi_kp_term(g, e);
 }
 

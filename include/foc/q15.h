@@ -76,6 +76,7 @@ static inline q15_t foc_sat_q15(int32_t x)
  * one SSAT on Cortex-M3, compares elsewhere (the same result). */
 static inline int32_t foc_sat_bits_portable(int32_t x, unsigned bits)
 {
+    /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
     const int32_t hi = (int32_t)((1UL << (bits - 1u)) - 1u);
     return (x > hi) ? hi : (x < -hi - 1) ? (-hi - 1) : x;
 }
@@ -101,6 +102,7 @@ static inline q15_t foc_sub_q15(q15_t a, q15_t b)
  * -1 x -1 = +1 saturates, to 32767.  The Q30 product fits int32_t. */
 static inline q15_t foc_mul_q15(q15_t a, q15_t b)
 {
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     return foc_sat_q15(((int32_t)a * (int32_t)b + (int32_t)0x4000) >> 15);
 }
 
@@ -115,6 +117,7 @@ static inline q15_t foc_mul_q15_shift(q15_t a, q15_t b, uint8_t shift)
     if (r == 0u) {
         return foc_sat_q15(p);
     }
+    /* cppcheck-suppress [misra-c2012-10.1, misra-c2012-10.7] ; D1 Q-format shift */
     return foc_sat_q15((p + (int32_t)(1L << (r - 1u))) >> r);
 }
 
@@ -126,13 +129,15 @@ static inline int32_t foc_mul_q30_shift(q15_t a, q15_t b, uint8_t shift)
     if (shift == 0u) {
         return p;
     }
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const int32_t limit = ((int32_t)1 << 30) >> shift;
     if (p > limit) {
-        return (int32_t)1 << 30;
+        return (int32_t)0x40000000; /* 2^30 */
     }
     if (p < -limit) {
-        return -((int32_t)1 << 30);
+        return -(int32_t)0x40000000;
     }
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     return p * ((int32_t)1 << shift);
 }
 
@@ -175,6 +180,7 @@ static inline q15_t foc_abs_q15(q15_t a)
 static inline int32_t foc_mul_norm32(q15_t a, q15_t mant, uint8_t rshift)
 {
     const int32_t p = (int32_t)a * (int32_t)mant;
+    /* cppcheck-suppress [misra-c2012-10.1, misra-c2012-10.7] ; D1 Q-format shift */
     return (p + (int32_t)(1L << (rshift - 1u))) >> rshift;
 }
 
@@ -182,6 +188,7 @@ static inline int32_t foc_mul_norm32(q15_t a, q15_t mant, uint8_t rshift)
  * 32767, not 32768). */
 static inline q15_t foc_q31_to_q15(q31_t x)
 {
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     return foc_sat_q15(((x >> 15) + 1) >> 1);
 }
 

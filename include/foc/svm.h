@@ -45,6 +45,7 @@ static inline q15_t foc_svm_duty_clamp(int32_t d)
 /* One phase's offset from the zero sequence `mid`, Q30 -> Q15, rounded. */
 static inline int32_t foc_svm_offset(int32_t u, int32_t mid)
 {
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     return (u - mid + 0x4000) >> 15;
 }
 
@@ -58,6 +59,7 @@ static inline q15_t foc_svm_duty(int32_t u, int32_t mid)
  * period over the span beyond the hexagon). */
 static inline q15_t foc_svm_duty_scaled(int32_t u, int32_t mid, int32_t gain)
 {
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     return foc_svm_duty_clamp(16384 + ((foc_svm_offset(u, mid) * gain + 0x4000) >> 15));
 }
 
@@ -75,15 +77,18 @@ static inline foc_duty_t foc_svm_q15(foc_ab_t v)
      * u_b,c = -alpha / (2 sqrt(3)) +- beta / 2.  |u| <= |v| / sqrt(3)
      * <= 0.82 (|v| <= sqrt(2) for Q15 inputs), so < 2^30.  In registers,
      * not an array: the phases are named, the loops written out. */
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     const int32_t ua = (int32_t)v.alpha * FOC_INV_SQRT3;
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const int32_t ub = (int32_t)v.beta * 16384 - (ua >> 1);
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const int32_t uc = -(int32_t)v.beta * 16384 - (ua >> 1);
 
     /* Largest and smallest phase (0 = a, 1 = b, 2 = c) and their values;
      * on a tie the later phase wins, which puts the alpha axis (u_b ==
      * u_c) into sectors 1 and 4. */
-    unsigned hi = (ub >= ua) ? 1u : 0u;
-    unsigned lo = (ub <= ua) ? 1u : 0u;
+    unsigned hi = (ub >= ua) ? (unsigned)1u : (unsigned)0u;
+    unsigned lo = (ub <= ua) ? (unsigned)1u : (unsigned)0u;
     int32_t u_hi = (hi != 0u) ? ub : ua;
     int32_t u_lo = (lo != 0u) ? ub : ua;
     if (uc >= u_hi) {
@@ -94,6 +99,7 @@ static inline foc_duty_t foc_svm_q15(foc_ab_t v)
         lo = 2u;
         u_lo = uc;
     }
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const int32_t mid = (u_hi + u_lo) >> 1; /* Q30, zero sequence */
     const int32_t span = u_hi - u_lo;       /* Q30, duty span, < 2^31 */
 
@@ -103,8 +109,9 @@ static inline foc_duty_t foc_svm_q15(foc_ab_t v)
      * a 32/16-bit division (span <= sqrt(2) < 2^16 in Q15, quotient
      * < 2^15). */
     foc_duty_t out;
-    if (span > ((int32_t)1 << 30)) {
+    if (span > (int32_t)0x40000000) { /* 2^30 */
         const int32_t gain =
+            /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
             (int32_t)((uint32_t)1 << 30) / (int32_t)((span + 0x4000) >> 15);
         out.a = foc_svm_duty_scaled(ua, mid, gain);
         out.b = foc_svm_duty_scaled(ub, mid, gain);

@@ -38,12 +38,14 @@ typedef struct {
 /* a * b, Q29, |result| <= 2^29. */
 static inline int32_t foc_mul_q29(q15_t a, q15_t b)
 {
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     return ((int32_t)a * (int32_t)b) >> 1;
 }
 
 /* Q29 -> Q15, rounded to nearest, saturated; |x| <= 3 * 2^29. */
 static inline q15_t foc_q29_to_q15(int32_t x)
 {
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     return foc_sat_q15((x + 0x2000) >> 14);
 }
 
@@ -53,6 +55,7 @@ static inline foc_ab_t foc_clarke2_q15(q15_t a, q15_t b)
 {
     foc_ab_t ab;
     ab.alpha = a;
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     ab.beta = foc_q29_to_q15(foc_mul_q29(a, FOC_INV_SQRT3) + 2 * foc_mul_q29(b, FOC_INV_SQRT3));
     return ab;
 }
@@ -66,7 +69,9 @@ static inline foc_ab_t foc_clarke3_q15(foc_abc_t abc)
     /* |sum| < 2^17 and |b - c| <= 2^16: the products fit int32_t */
     const int32_t sum = (int32_t)abc.a + abc.b + abc.c;
     foc_ab_t ab;
+    /* cppcheck-suppress [misra-c2012-10.1, misra-c2012-10.8] ; D1 Q-format shift, D2 compile-time constant */
     ab.alpha = foc_q29_to_q15((int32_t)abc.a * 16384 - ((sum * FOC_ONE_THIRD) >> 1));
+    /* cppcheck-suppress [misra-c2012-10.1, misra-c2012-10.8] ; D1 Q-format shift, D2 compile-time constant */
     ab.beta = foc_q29_to_q15((((int32_t)abc.b - abc.c) * FOC_INV_SQRT3) >> 1);
     return ab;
 }
@@ -94,6 +99,7 @@ static inline foc_ab_t foc_ipark_q15(foc_dq_t dq, foc_sincos_t sc)
 static inline foc_abc_t foc_iclarke_q15(foc_ab_t ab)
 {
     const int32_t half_alpha = (int32_t)ab.alpha * 8192;              /* Q29 */
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     const int32_t beta_part = foc_mul_q29(ab.beta, FOC_HALF_SQRT3);   /* Q29 */
     foc_abc_t abc;
     abc.a = ab.alpha;

@@ -29,9 +29,11 @@ extern const int16_t foc_sin_table[130];
 static inline q15_t foc_quarter_sin_q15(uint16_t x)
 {
     const uint16_t i = (uint16_t)(x >> 7);
+    /* cppcheck-suppress misra-c2012-10.8 ; D4 value in range */
     const int32_t frac = (int32_t)(x & 127u);
     const int32_t y0 = foc_sin_table[i];
     const int32_t dy = (int32_t)foc_sin_table[i + 1u] - y0; /* 0..402 */
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     return (q15_t)(y0 + ((dy * frac + 64) >> 7));         /* <= 32767 */
 }
 
@@ -64,7 +66,9 @@ static inline foc_sincos_t foc_sincos_q15(uint16_t angle)
 static inline foc_sincos_t foc_sincos_sum(foc_sincos_t a, foc_sincos_t b)
 {
     foc_sincos_t r;
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     r.sin = foc_sat_q15(((int32_t)a.sin * b.cos + (int32_t)a.cos * b.sin + 0x4000) >> 15);
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     r.cos = foc_sat_q15(((int32_t)a.cos * b.cos - (int32_t)a.sin * b.sin + 0x4000) >> 15);
     return r;
 }

@@ -18,8 +18,11 @@
 # which they are replaced by their values (flatten_config.py explains why);
 # config.h itself is checked as the unit `config`.
 #
-# Deviations: tests/quality/cppcheck-suppressions.txt (MISRA rules, with the
-# reasons in docs/static-analysis.md) and the check list of clang-tidy.yaml.
+# Deviations: tests/quality/cppcheck-suppressions.txt (advisory MISRA rules,
+# and rules for a set of files), per-line cppcheck-suppress comments (the
+# required rules; tests/quality/misra_deviations.py checks that each is in
+# the list of docs/static-analysis.md), with the reasons in that document,
+# and the check list of clang-tidy.yaml.
 # Every other finding is printed and makes the script fail; the last lines
 # count the findings by rule.  Output also in build/static/.
 set -u
@@ -128,4 +131,8 @@ echo "static: clang-tidy: $nt findings"
 if [ "$nt" -gt 0 ]; then
     grep -o '\[[A-Za-z0-9.,_-]*\]$' "$OUT/clang-tidy.txt" | sort | uniq -c | sort -rn | sed 's/^/static:   /'
 fi
-[ "$nc" -eq 0 ] && [ "$nt" -eq 0 ]
+# every per-line MISRA deviation has a class and is listed in the document
+nd=0
+dev=$(/usr/bin/python3 $Q/misra_deviations.py --check) || nd=1
+echo "$dev" | sed 's/^/static: /'
+[ "$nc" -eq 0 ] && [ "$nt" -eq 0 ] && [ "$nd" -eq 0 ]

@@ -30,6 +30,7 @@
 #error "hal/dspic33fj/stub/xc.h is the host stand-in; XC16 must use its own <xc.h>"
 #endif
 
+/* cppcheck-suppress misra-c2012-21.1 ; D5 toolchain name */
 #define __dsPIC33FJ32MC204__ 1
 #define DSPIC_STUB 1
 
