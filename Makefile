@@ -317,10 +317,11 @@ FUZZ_CHECK_TIME ?= 30
 FUZZ_ENV     ?=
 FUZZ_CC      ?= clang
 FUZZ_PARMS   := $(if $(FOC_USERPARMS),$(abspath $(FOC_USERPARMS)),$(abspath userparms.h.in))
-FUZZ_CFLAGS  := -g -O1 -std=c11 -Iinclude -DFOC_ALL_ESTIMATORS \
+FUZZ_CFLAGS  := -g -O1 -std=c11 -Iinclude -Itests/common -DFOC_ALL_ESTIMATORS \
                 -DFOC_USERPARMS_FILE='"$(FUZZ_PARMS)"'
 FUZZ_CORE    := $(wildcard src/*.c)
-FUZZ_DEPS    := $(FUZZ_CORE) $(wildcard include/foc/*.h) $(FUZZ_PARMS)
+FUZZ_HELPERS := tests/common/ref_frame.c
+FUZZ_DEPS    := $(FUZZ_CORE) $(FUZZ_HELPERS) $(wildcard include/foc/*.h) $(FUZZ_PARMS)
 FUZZ_SEEDS_controller := tests/fuzz/corpus
 FUZZ_SEEDS_monitor    := tests/fuzz/corpus_monitor
 
@@ -396,7 +397,7 @@ check-sanitize:
 $(FUZZ_OUT)/%/fuzzer: tests/fuzz/fuzz_%.c $(FUZZ_DEPS)
 	@mkdir -p $(@D)/corpus $(@D)/crashes
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer,address,undefined \
-	    -fno-sanitize-recover=all $< $(FUZZ_CORE) -o $@
+	    -fno-sanitize-recover=all $< $(FUZZ_CORE) $(FUZZ_HELPERS) -o $@
 	cp $(FUZZ_SEEDS_$*)/* $(@D)/corpus/
 
 # The reproducers of open findings (tests/fuzz/findings) first: they fail

@@ -38,6 +38,7 @@ import subprocess
 import sys
 import time
 import xml.etree.ElementTree as ET
+from focsim_csv import decimals, read_csv
 
 failures = []
 ADC_BITS = 10  # userparms.h.in BOARD_ADC_BITS
@@ -54,19 +55,6 @@ CSV_COLUMN = {"speed_est": ("speed_est_rpm", 0), "theta_est": ("theta_est_deg", 
               "vq": ("vq_v", 0), "iq_ref": ("iq_ref_a", -1), "id": ("id_a", 0),
               "iq": ("iq_a", 0), "vdc": ("vdc_v", 0), "speed": ("speed_rpm", 0)}
 
-
-def decimals(s):
-    return len(s.split(".", 1)[1]) if "." in s else 0
-
-
-def read_csv(path):
-    with open(path) as f:
-        names = f.readline().strip().split(",")
-        cols = {n: [] for n in names}
-        for line in f:
-            for n, v in zip(names, line.strip().split(",")):
-                cols[n].append(v)
-    return cols
 
 
 def start_focsim(focsim, scn, csv, work):

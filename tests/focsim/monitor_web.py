@@ -39,6 +39,7 @@ import sys
 import tempfile
 import time
 import urllib.request
+from focsim_csv import decimals, read_csv
 
 failures = []
 
@@ -157,19 +158,6 @@ def wait_page(cdp, expr, timeout, what):
         time.sleep(0.05)
     raise SystemExit("the page never showed %s" % what)
 
-
-def decimals(s):
-    return len(s.split(".", 1)[1]) if "." in s else 0
-
-
-def read_csv(path):
-    with open(path) as f:
-        names = f.readline().strip().split(",")
-        cols = {n: [] for n in names}
-        for line in f:
-            for n, v in zip(names, line.strip().split(",")):
-                cols[n].append(v)
-    return cols
 
 
 def main():

@@ -36,6 +36,7 @@
 #include "foc/monitor.h"
 #include "foc/port.h"
 #include "foc/scope.h"
+#include "ref_frame.h"
 
 #define SCOPE_SAMPLES 256u
 #define PERIODS_PER_FRAME 40u
@@ -108,18 +109,6 @@ uint32_t foc_port_timestamp(void)
 
 /* ---------------------------------------------- the harness's framing -- */
 
-static uint16_t ref_crc(const uint8_t *p, size_t n)
-{
-    uint32_t crc = 0xFFFF;
-    for (size_t i = 0; i < n; i++) {
-        for (int b = 7; b >= 0; b--) {
-            const uint32_t bit = ((crc >> 15) ^ ((uint32_t)p[i] >> b)) & 1u;
-            crc = ((crc << 1) & 0xFFFF) ^ (bit ? 0x1021u : 0u);
-        }
-    }
-    return (uint16_t)crc;
-}
-
 /* COBS-decodes enc[0..n-1] (no delimiter) into out; the length, or -1 if
  * the encoding is broken. */
 static int ref_uncobs(const uint8_t *enc, size_t n, uint8_t *out, size_t cap)
@@ -157,25 +146,6 @@ static int good_frame(const uint8_t *enc, size_t n, uint8_t *cmd)
     const uint16_t crc = (uint16_t)(raw[len - 2] | (raw[len - 1] << 8));
     *cmd = raw[0];
     return crc == ref_crc(raw, (size_t)len - 2);
-}
-
-static size_t ref_cobs(const uint8_t *p, size_t n, uint8_t *out)
-{
-    size_t o = 1, code_at = 0;
-    uint8_t code = 1;
-    for (size_t i = 0; i < n; i++) {
-        if (p[i] == 0) {
-            out[code_at] = code;
-            code_at = o++;
-            code = 1;
-        } else {
-            out[o++] = p[i];
-            code++;
-        }
-    }
-    out[code_at] = code;
-    out[o++] = 0;
-    return o;
 }
 
 /* ------------------------------------------------------------- the run -- */

@@ -109,10 +109,10 @@ def c_monitor(common):
           "identify: protocol 1, board stm3210b")
     if ident:
         pwm = struct.unpack_from("<I", ident[0], 2 + 4)[0]
-        check(pwm == int(userparm("PWM_FREQUENCY_HZ")), "identify: PWM %d Hz" % pwm)
+        check(pwm == int(pil.board_userparm("PWM_FREQUENCY_HZ")), "identify: PWM %d Hz" % pwm)
     st = [p for p in reps if p[0] == 0x86 and p[1] == 0]
     check(len(st) >= 2 and st[0][2] == fm.STATES.index("IDLE"), "status answers state=IDLE")
-    want = round(1234 * 32768 / userparm("SPEED_BASE_RPM"))
+    want = round(1234 * 32768 / pil.board_userparm("SPEED_BASE_RPM"))
     check(any(p[0] == 0x85 and p[1] == 0 for p in reps), "speed 1234 answered ok")
     if len(st) >= 2:
         f = struct.unpack_from("<BHHhhhhhhhhHHHB", st[-1], 2)
@@ -229,25 +229,13 @@ def c_locked(common, focsim):
               "at the same time within 50 ms (image %s s, focsim %s s)" % (t_pil, t_fs))
 
 
-def userparm(name):
-    """A number from the PIL build's userparms.h (the Shinano motor's)."""
-    here = os.path.dirname(os.path.abspath(__file__))
-    path = os.path.join(here, "..", "..", "boards", "stm3210b_mckit", "userparms.h")
-    with open(path) as fh:
-        for line in fh:
-            w = line.split()
-            if len(w) >= 3 and w[0] == "#define" and w[1] == name:
-                return float(w[2])
-    raise SystemExit("userparms.h: no %s" % name)
-
-
 def c_catch(common, focsim):
     """A start into a rotor turning at 75 % of its maximum speed: CATCH's
     probe (two one-period shorts, controller.c) presets the controller, so
     the image takes the rotor without aligning, within the current limit
     (judged on the plant's phase currents, every PWM period)."""
-    wmax = userparm("MOTOR_MAX_SPEED_RPM")
-    limit = userparm("CURRENT_LIMIT_A")
+    wmax = pil.board_userparm("MOTOR_MAX_SPEED_RPM")
+    limit = pil.board_userparm("CURRENT_LIMIT_A")
     text = "0.00 spin %.0f\n0.00 speed %.0f\n0.00 start\n0.15 unlock\n1.20 end\n" % (0.75 * wmax, 0.5 * wmax)
     scn = scenario("catch", text)
     r, f = run(common, scn)
