@@ -72,12 +72,13 @@ ARM_FLAGS  := -mcpu=cortex-m3 -mthumb -O2 -std=c99 -Wall -Wextra -Wconversion \
               -Werror -Iinclude
 ARM_PARMS  := $(if $(FOC_USERPARMS),$(abspath $(FOC_USERPARMS)),$(abspath userparms.h.in))
 CORE_SRC   := $(wildcard src/*.c)
-CORE_OBJ   := $(patsubst src/%.c,build/core-arm/%.o,$(CORE_SRC))
+CORE_ARM_OUT ?= build/core-arm
+CORE_OBJ   := $(patsubst src/%.c,$(CORE_ARM_OUT)/%.o,$(CORE_SRC))
 
 core-arm: $(CORE_OBJ)
 	arm-none-eabi-size -t $(CORE_OBJ)
 
-build/core-arm/%.o: src/%.c $(wildcard include/foc/*.h) $(ARM_PARMS)
+$(CORE_ARM_OUT)/%.o: src/%.c $(wildcard include/foc/*.h) $(ARM_PARMS)
 	@mkdir -p $(@D)
 	$(ARM_CC) $(ARM_FLAGS) -DFOC_USERPARMS_FILE='"$(ARM_PARMS)"' -c $< -o $@
 
@@ -182,7 +183,7 @@ $(DSPIC_CHECK)/int16/%.o: %.c $(DSPIC_DEPS) | dspic-need-avr
 STM32_PART   ?= STM32F103xB
 STM32_BOARD  := boards/stm3210b_mckit
 STM32_HAL    := hal/stm32f10x
-STM32_OUT    := build/stm32
+STM32_OUT    ?= build/stm32
 STM32_NAME   := $(STM32_OUT)/foc_stm32f10x
 STM32_PARMS  := $(abspath $(STM32_BOARD)/userparms.h)
 STM32_FLASH_TARGET := 12288
