@@ -63,6 +63,7 @@ echo "fresh-check: $repo at $head in $root$work"
 
 cleanup() {
     umount "$root/dev/shm" 2>/dev/null || true
+    umount "$root/dev/pts" 2>/dev/null || true
     umount "$root/dev" 2>/dev/null || true
     umount "$root/proc" 2>/dev/null || true
 }
@@ -70,6 +71,7 @@ trap cleanup EXIT
 trap 'exit 130' INT TERM
 mount -t proc proc "$root/proc"
 mount --bind /dev "$root/dev"
+mount --bind /dev/pts "$root/dev/pts"   # focsim --pty: pseudo-terminals
 mount -t tmpfs tmpfs "$root/dev/shm"
 
 # A clean environment: no CI, no host PATH or locale.
