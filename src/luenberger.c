@@ -36,9 +36,12 @@ static q15_t q15_part(int32_t state, uint8_t log2_f)
     return (q15_t)(state >> log2_f);
 }
 
-/* |e| within -3 %..+0 % (max(M, 7/8 M + m/2) of the larger and smaller
- * component; no multiplication), at least AMP_MIN; <= 45056. */
-static int32_t emf_amplitude(foc_ab_t e)
+/* The phase detector's divisor: |e| within -3 %..+0 % (max(M, 7/8 M +
+ * m/2) of the larger and smaller component; no multiplication), at least
+ * FOC_LUEN_PLL_FULL_AMP (the EMF at full speed, >= 512 by config.h): the
+ * detector's output is sin(angle error) times g = min(1, |e| / that EMF),
+ * the PLL's gain scaled with the speed below maximum; <= 45056. */
+static int32_t detector_amplitude(foc_ab_t e)
 {
     const int32_t a = foc_abs_q15(e.alpha);
     const int32_t b = foc_abs_q15(e.beta);
@@ -47,7 +50,7 @@ static int32_t emf_amplitude(foc_ab_t e)
     /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const int32_t blend = big - (big >> 3) + (small >> 1);
     const int32_t amp = (blend > big) ? blend : big;
-    return (amp > AMP_MIN) ? amp : AMP_MIN;
+    return (amp > FOC_LUEN_PLL_FULL_AMP) ? amp : FOC_LUEN_PLL_FULL_AMP;
 }
 
 /* One Newton step of inv -> 1/amp (Q9): inv (2 - amp inv), the factor
@@ -91,9 +94,9 @@ void foc_luen_reset(foc_luenberger_t *l, uint16_t theta, q15_t speed, foc_ab_t i
     l->forward = (uint8_t)(speed >= 0);
     /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     l->inv_amp = INV_ONE;
-    const int32_t amp = emf_amplitude(e_ab);
+    const int32_t amp = detector_amplitude(e_ab);
     for (unsigned k = 0; k < 16u; k++) {
-        track_inverse(l, (amp > FOC_LUEN_PLL_FULL_AMP) ? amp : FOC_LUEN_PLL_FULL_AMP);
+        track_inverse(l, amp);
     }
     /* theta32 is the angle at the next sample (as after every step). */
     /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
@@ -189,11 +192,7 @@ void foc_luen_step(foc_luenberger_t *l, foc_ab_t v_last, foc_ab_t i_now)
      * flux: the feed-forward.  -e_d / |e|, sign-corrected for the
      * direction, is sin(angle error): the PI's input. */
     const foc_ab_t e = foc_luen_emf(l);
-    /* The phase detector is divided by max(|e|, FOC_LUEN_PLL_FULL_AMP):
-     * sin(angle error) times g = min(1, |e| / FOC_LUEN_PLL_FULL_AMP), the
-     * PLL's gain scaled with the speed below maximum. */
-    const int32_t amp = emf_amplitude(e);
-    track_inverse(l, (amp > FOC_LUEN_PLL_FULL_AMP) ? amp : FOC_LUEN_PLL_FULL_AMP);
+    track_inverse(l, detector_amplitude(e));
     l->theta = (uint16_t)(l->theta32 >> 16);
     const uint16_t theta_mid =
         (uint16_t)(l->theta - (uint16_t)foc_mul_q15(l->omega, FOC_HALF_PERIOD_ANGLE));
