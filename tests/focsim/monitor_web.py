@@ -146,6 +146,19 @@ def wait_line(path, prefix, proc, timeout=15):
     raise SystemExit("no '%s' from %s" % (prefix, proc.args[0]))
 
 
+def wait_page_target(port, browser, timeout=30):
+    """The browser's page target: DevTools may list it a moment after its
+    'listening' line (a busy machine: a list without it)."""
+    end = time.monotonic() + timeout
+    while time.monotonic() < end and browser.poll() is None:
+        targets = json.load(urllib.request.urlopen("http://%s/json/list" % port))
+        page = next((t for t in targets if t.get("type") == "page"), None)
+        if page is not None:
+            return page
+        time.sleep(0.1)
+    raise SystemExit("chromium listed no page target")
+
+
 def wait_page(cdp, expr, timeout, what):
     end = time.monotonic() + timeout
     while time.monotonic() < end:
@@ -156,7 +169,12 @@ def wait_page(cdp, expr, timeout, what):
         if v:
             return v
         time.sleep(0.05)
-    raise SystemExit("the page never showed %s" % what)
+    try:
+        seen = cdp.js("['state', 'fault', 'log'].map(id => id + ': ' + "
+                      "(document.getElementById(id) || {}).textContent).join(' | ')")
+    except RuntimeError:
+        seen = "(the page did not answer)"
+    raise SystemExit("the page never showed %s within %g s; it shows %s" % (what, timeout, seen))
 
 
 
@@ -195,8 +213,7 @@ def main():
                                 stdout=open(wout, "w"), stderr=subprocess.STDOUT)
         procs.append(webp)
         url = wait_line(wout, "web: ", webp)
-        targets = json.load(urllib.request.urlopen("http://%s/json/list" % port))
-        page = next(t for t in targets if t.get("type") == "page")
+        page = wait_page_target(port, browser)
         cdp = Cdp(page["webSocketDebuggerUrl"])
         cdp.call("Page.enable")
         cdp.call("Page.navigate", url=url)
@@ -207,7 +224,7 @@ def main():
         cdp.js("document.getElementById('btn-start').click()")
         cdp.js("document.getElementById('speed').value = '1000';"
                "document.getElementById('btn-speed').click()")
-        wait_page(cdp, "document.getElementById('state').textContent === 'RUN'", 5, "RUN")
+        wait_page(cdp, "document.getElementById('state').textContent === 'RUN'", 15, "RUN")
         time.sleep(1.0)
         u1, t1 = cdp.js("+document.getElementById('updates').textContent"), time.monotonic()
         rate = (u1 - u0) / (t1 - t0)
@@ -217,7 +234,7 @@ def main():
                   v('sc-ch', 'speed_est,iq_ref'); v('sc-trig', 'speed_est');
                   v('sc-edge', 'rising'); v('sc-level', '1250'); v('sc-pre', '25');
                   v('sc-decim', '1'); document.getElementById('btn-capture').click(); })()""")
-        wait_page(cdp, "document.getElementById('sc-info').textContent === 'armed...'", 3, "armed")
+        wait_page(cdp, "document.getElementById('sc-info').textContent === 'armed...'", 10, "armed")
         time.sleep(0.3)  # the tool arms within a few requests
         cdp.js("document.getElementById('speed').value = '1500';"
                "document.getElementById('btn-speed').click()")
