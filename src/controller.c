@@ -716,6 +716,7 @@ static void enter_run(foc_ctrl_t *c, q15_t iq)
     foc_sc_preset(&c->speed_ctrl, c->est.est_speed, iq);
     c->start_ticks = 0;
     c->reversal_speed = foc_abs_q15(c->est.est_speed);
+    foc_rs_adapt_reset(&c->rs_adapt, c->v_dq, c->i_dq, c->est.est_speed);
     enter(c, FOC_STATE_RUN);
 }
 
@@ -1085,6 +1086,17 @@ static void run_tick(foc_ctrl_t *c)
         return;
     }
     stall_check(c, reversal);
+    /* the winding warms: Rs follows (not through the hand-over's fade nor
+     * a reversal's ramp down) */
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    if (RS_ADAPTATION != 0 && c->state == FOC_STATE_RUN && c->est.use_sensor == 0u &&
+        reversal == 0u && c->handover_id == 0) {
+        const q15_t rs = foc_rs_adapt_tick(&c->rs_adapt, c->v_dq, c->i_dq, c->est.speed,
+                                           c->est.rs_ratio, c->est.ls_ratio);
+        if (rs != c->est.rs_ratio) {
+            foc_est_set_rs(&c->est, rs);
+        }
+    }
     if (c->state == FOC_STATE_RUN && c->req.stop != 0u) {
         c->comm.step = (uint8_t)FOC_COMM_STEP_NONE; /* MECH abandoned */
         stop_or_brake(c);

@@ -744,6 +744,14 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
 #define FOC_XD_PU (FOC_WE_BASE_RAD_S * MOTOR_LD_H * FOC_I_BASE_A / FOC_V_BASE_V)
 #define FOC_XD_MANT FOC_GAIN_MANT(FOC_XD_PU)
 #define FOC_XD_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_XD_PU))
+#define FOC_XQ_PU (FOC_WE_BASE_RAD_S * MOTOR_LQ_H * FOC_I_BASE_A / FOC_V_BASE_V)
+#define FOC_XQ_MANT FOC_GAIN_MANT(FOC_XQ_PU)
+#define FOC_XQ_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_XQ_PU))
+/* Online Rs adaptation (rs_adapt.c): its inputs' filter (20 ms at the
+ * slow tick) and the Newton step's divisor, Rs in per unit x 2^7 (one
+ * 64th of the step, rs_adapt.h), at least 1. */
+#define FOC_RSA_FILTER_K Q15(FOC_SLOW_TS_S / (0.020 + FOC_SLOW_TS_S))
+#define FOC_RSA_STEP_DIV ((int32_t)(FOC_RS_PU * 128.0 + 1.0))
 #define FOC_STARTUP_MIN_SPEED FOC_SPEED_Q15(STARTUP_MIN_SPEED_RPM)
 /* ---------------------------------------------------- commissioning -- */
 /* commission.c (docs/commissioning.md).  Two d currents for Rs: the high
@@ -1045,6 +1053,11 @@ FOC_STATIC_ASSERT(STOP_SPEED_RPM >= 0.0 && STOP_SPEED_RPM < SPEED_BASE_RPM,
 #endif
 #ifndef OVERSPEED_MARGIN
 #define OVERSPEED_MARGIN 0.1 /* overspeed fault above (1 + margin) x max speed */
+#endif
+/* 1: the estimators' Rs follows the warming winding in RUN (rs_adapt.h),
+ * from the build's flux: set 0 when MOTOR_KE is only a guess. */
+#ifndef RS_ADAPTATION
+#define RS_ADAPTATION 1
 #endif
 /* Sample to voltage: the voltage computed from the sample of period k is
  * centred SAMPLE_DELAY_PERIODS periods after that sample.  1.5 where the

@@ -65,6 +65,7 @@
 #include "foc/field_weakening.h"
 #include "foc/port.h"
 #include "foc/protection.h"
+#include "foc/rs_adapt.h"
 #include "foc/speed_ctrl.h"
 #include "foc/speed_stats.h"
 #include "foc/startup.h"
@@ -193,6 +194,7 @@ typedef struct {
                                        /* sets the speed CATCH's probe */
                                        /* turns at before it runs) */
     foc_speed_stats_t speed_stats;     /* [slow] */
+    foc_rs_adapt_t rs_adapt;           /* [slow] online Rs (rs_adapt.h) */
     foc_supervision_t sup;             /* [slow] */
     foc_comm_t comm;                   /* commissioning: [slow] its */
                                        /* sequence, [fast] its sums */

@@ -82,18 +82,28 @@ static void case_luenberger_500rpm_switched(void)
     TK_CHECK(est_luenberger_500rpm_switched("hurst075", lim), "see the lines above");
 }
 
-/* The winding warming up in a run: on the realistic plant at 500 and 1000
- * rpm with 0.1 Nm (the Hurst075's rated torque, applied in four steps so
- * that the light rotor is not stopped by the step), the model's Rs rises
- * by 40 % in 4 % steps every 0.2 s from 2.0 s (the controller keeps the Rs
- * it measured at the alignment).  The drive stays in RUN without a fault
- * and the angle error stays within the issue's 3 deg RMS in each 0.5 s
- * window from 2.5 s.  Measured (seed 1), largest window, deg: PLL 1.98
- * (500 rpm), 1.91 (1000); Luenberger 2.01, 1.56; flux 2.09 at 1000 rpm.  Not held, so
- * not asserted (docs/estimators.md, "Resistance drift"): the flux
- * estimator at 500 rpm (a false SPEED_FEEDBACK at 3.2 s) and all three in field
- * weakening (2000 rpm: 11-14 deg). */
-static void rs_drift(foc_est_kind_t kind, double speed_rpm)
+/* The winding warming up in a run: on the realistic plant with 0.1 Nm
+ * (the Hurst075's rated torque, applied in four steps so that the light
+ * rotor is not stopped by the step), the model's Rs rises by 40 % in 4 %
+ * steps every 0.2 s from 2.0 s.  The drive stays in RUN without a fault
+ * and the angle error RMS stays within `limit_deg` in each 0.5 s window
+ * from 2.5 s.
+ *
+ * At 500 and 1000 rpm the d current is about 0: the Rs error only scales
+ * the EMF and the controller keeps the Rs it measured at the alignment
+ * (rs_adapt.h's gate is shut); the issue's 3 deg holds.  Measured (seed
+ * 1), largest window, deg: PLL 1.98 (500 rpm), 1.91 (1000); Luenberger
+ * 2.01, 1.64; flux 2.09 at 1000 rpm.  The flux estimator at 500 rpm is
+ * not held (a false SPEED_FEEDBACK at 3.2 s; docs/estimators.md,
+ * "Resistance drift").
+ *
+ * At 2000 rpm field weakening drives id to -1.47 A, the Rs error times id
+ * lies across the EMF, and rs_adapt.c follows Rs (11.7 / 11.5 / 13.8 deg
+ * without it).  Measured: PLL 3.56, Luenberger 3.64, flux 3.66 deg: the
+ * alignment's inductance, 9 % low under the noise, leaves w dL iq across
+ * the EMF (2.5 deg) and biases the adapted Rs by -7 %.  Limit 4.5 deg,
+ * not the issue's 3. */
+static void rs_drift(foc_est_kind_t kind, double speed_rpm, double limit_deg)
 {
     char text[1024];
     int len = snprintf(text, sizeof text,
@@ -113,9 +123,9 @@ static void rs_drift(foc_est_kind_t kind, double speed_rpm)
         run_est_errors_t e;
         run_est_errors(&r, t, t + 0.5, &e);
         const size_t n = run_index_at(&r, t + 0.5) - run_index_at(&r, t);
-        printf("  %s %g rpm, Rs drift, %.1f-%.1f s: angle rms %.2f deg, %zu of %zu rows in RUN\n",
-               foc_est_name(kind), speed_rpm, t, t + 0.5, e.angle_rms_deg, e.n_run, n);
-        TK_CHECK(e.n_run == n && e.angle_rms_deg <= 3.0, "%s %g rpm %.1f s: angle rms %.2f deg",
+        printf("  %s %g rpm, Rs drift, %.1f-%.1f s: angle rms %.2f deg (limit %.1f), %zu of %zu rows in RUN\n",
+               foc_est_name(kind), speed_rpm, t, t + 0.5, e.angle_rms_deg, limit_deg, e.n_run, n);
+        TK_CHECK(e.n_run == n && e.angle_rms_deg <= limit_deg, "%s %g rpm %.1f s: angle rms %.2f deg",
                  foc_est_name(kind), speed_rpm, t, e.angle_rms_deg);
     }
     run_free(&r);
@@ -123,13 +133,21 @@ static void rs_drift(foc_est_kind_t kind, double speed_rpm)
 
 static void case_rs_drift(void)
 {
-    rs_drift(FOC_EST_PLL, 500.0);
-    rs_drift(FOC_EST_PLL, 1000.0);
-    rs_drift(FOC_EST_LUENBERGER, 500.0);
-    rs_drift(FOC_EST_LUENBERGER, 1000.0);
-    rs_drift(FOC_EST_FLUX, 1000.0);
+    rs_drift(FOC_EST_PLL, 500.0, 3.0);
+    rs_drift(FOC_EST_PLL, 1000.0, 3.0);
+    rs_drift(FOC_EST_LUENBERGER, 500.0, 3.0);
+    rs_drift(FOC_EST_LUENBERGER, 1000.0, 3.0);
+    rs_drift(FOC_EST_FLUX, 1000.0, 3.0);
+}
+
+static void case_rs_drift_field_weakening(void)
+{
+    rs_drift(FOC_EST_PLL, 2000.0, 4.5);
+    rs_drift(FOC_EST_LUENBERGER, 2000.0, 4.5);
+    rs_drift(FOC_EST_FLUX, 2000.0, 4.5);
 }
 
 TK_CASES(TK_CASE(case_realistic_sets_the_set), TK_CASE(case_realistic_runs),
          TK_CASE(case_realistic_runs_mismatch),
-         TK_CASE(case_luenberger_500rpm_switched), TK_CASE(case_rs_drift))
+         TK_CASE(case_luenberger_500rpm_switched), TK_CASE(case_rs_drift),
+         TK_CASE(case_rs_drift_field_weakening))
