@@ -148,6 +148,7 @@ void foc_init(foc_ctrl_t *c)
     c->opt.sensored_start = 0;
     c->opt.deadtime_comp = (uint8_t)(DEADTIME_COMPENSATION != 0);
     c->opt.fault_brake = (uint8_t)(FAULT_BRAKE != 0);
+    c->opt.rs_adapt = (uint8_t)(RS_ADAPTATION != 0);
     c->opt.min_speed = FOC_SENSORLESS_MIN_SPEED;
     foc_faults_clear(&c->faults);
     c->i_ab = zero_ab;
@@ -716,7 +717,7 @@ static void enter_run(foc_ctrl_t *c, q15_t iq)
     foc_sc_preset(&c->speed_ctrl, c->est.est_speed, iq);
     c->start_ticks = 0;
     c->reversal_speed = foc_abs_q15(c->est.est_speed);
-    foc_rs_adapt_reset(&c->rs_adapt, c->v_dq, c->i_dq, c->est.est_speed);
+    foc_rs_adapt_reset(&c->rs_adapt, c->v_dq, c->i_dq, c->est.est_speed, c->est.rs_ratio);
     enter(c, FOC_STATE_RUN);
 }
 
@@ -1088,8 +1089,7 @@ static void run_tick(foc_ctrl_t *c)
     stall_check(c, reversal);
     /* the winding warms: Rs follows (not through the hand-over's fade nor
      * a reversal's ramp down) */
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    if (RS_ADAPTATION != 0 && c->state == FOC_STATE_RUN && c->est.use_sensor == 0u &&
+    if (c->opt.rs_adapt != 0u && c->state == FOC_STATE_RUN && c->est.use_sensor == 0u &&
         reversal == 0u && c->handover_id == 0) {
         const q15_t rs = foc_rs_adapt_tick(&c->rs_adapt, c->v_dq, c->i_dq, c->est.speed,
                                            c->est.rs_ratio, c->est.ls_ratio);

@@ -2,6 +2,7 @@
 #include "foc/rs_adapt.h"
 #include "foc/config.h"
 
+/* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
 FOC_STATIC_ASSERT(FOC_RSA_STEP_DIV >= 1 && FOC_RSA_STEP_DIV < 16384,
                   "rs_adapt: Rs per unit out of the step's range");
 
@@ -9,8 +10,13 @@ FOC_STATIC_ASSERT(FOC_RSA_STEP_DIV >= 1 && FOC_RSA_STEP_DIV < 16384,
  * Rs by 0.4 % at most). */
 #define STEP_MAX_Q14 64
 
-void foc_rs_adapt_reset(foc_rs_adapt_t *a, foc_dq_t v, foc_dq_t i, q15_t speed)
+void foc_rs_adapt_reset(foc_rs_adapt_t *a, foc_dq_t v, foc_dq_t i, q15_t speed, q15_t rs_q14)
 {
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    a->rs_min_q14 = (q15_t)(rs_q14 - (rs_q14 >> 3));
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    const int32_t hi = (int32_t)rs_q14 + (rs_q14 >> 1);
+    a->rs_max_q14 = (hi > Q15_MAX) ? Q15_MAX : (q15_t)hi;
     foc_lpf_init(&a->vd, v.d);
     foc_lpf_init(&a->vq, v.q);
     foc_lpf_init(&a->id, i.d);
@@ -36,10 +42,10 @@ q15_t foc_rs_adapt_tick(foc_rs_adapt_t *a, foc_dq_t v, foc_dq_t i, q15_t speed, 
 
     /* the gate: a d current of at least a quarter of the q current (where
      * Rs matters to the angle), and a nominal ohmic drop |iq| Rs of at
-     * least 1/8 of the EMF w psi (where it shows) */
+     * least 1/4 of the EMF w psi (where it shows) */
     const q15_t emf = foc_abs_q15(foc_mul_q15_shift(w, FOC_EMF_PER_SPEED_MANT, FOC_EMF_PER_SPEED_SHIFT));
     const q15_t drop = foc_mul_q15_shift(foc_abs_q15(iq), FOC_RS_MANT, FOC_RS_SHIFT);
-    if (emf == 0 || ((int32_t)drop * 8) < (int32_t)emf ||
+    if (emf == 0 || ((int32_t)drop * 4) < (int32_t)emf ||
         ((int32_t)foc_abs_q15(id) * 4) < (int32_t)foc_abs_q15(iq)) {
         return rs_q14;
     }
@@ -59,7 +65,7 @@ q15_t foc_rs_adapt_tick(foc_rs_adapt_t *a, foc_dq_t v, foc_dq_t i, q15_t speed, 
     const int32_t g = ((int32_t)eq * iq) + ((int32_t)ed * id);
     /* eps / (2 g) in per unit of Rs, over Rs per unit, 1/64 of it, Q14:
      * (eps / 2^15) 2^14 / ((g / 2^15) Rs_pu 2^7); |g / 2^15| < 2^16 */
-    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    /* cppcheck-suppress [misra-c2012-10.1, misra-c2012-10.8] ; D1 Q-format shift, D2 compile-time constant */
     const int32_t den = (g >> 15) * FOC_RSA_STEP_DIV;
     if (den > -STEP_MAX_Q14 && den < STEP_MAX_Q14) {
         return rs_q14; /* no slope to follow */
@@ -68,5 +74,5 @@ q15_t foc_rs_adapt_tick(foc_rs_adapt_t *a, foc_dq_t v, foc_dq_t i, q15_t speed, 
     int32_t step = ((eps >> 15) * 16384) / den;
     step = (step > STEP_MAX_Q14) ? STEP_MAX_Q14 : (step < -STEP_MAX_Q14) ? -STEP_MAX_Q14 : step;
     const int32_t ratio = (int32_t)rs_q14 + step;
-    return (ratio < FOC_RATIO_MIN_Q14) ? FOC_RATIO_MIN_Q14 : (ratio > Q15_MAX) ? Q15_MAX : (q15_t)ratio;
+    return (ratio < a->rs_min_q14) ? a->rs_min_q14 : (ratio > a->rs_max_q14) ? a->rs_max_q14 : (q15_t)ratio;
 }

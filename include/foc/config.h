@@ -1054,10 +1054,13 @@ FOC_STATIC_ASSERT(STOP_SPEED_RPM >= 0.0 && STOP_SPEED_RPM < SPEED_BASE_RPM,
 #ifndef OVERSPEED_MARGIN
 #define OVERSPEED_MARGIN 0.1 /* overspeed fault above (1 + margin) x max speed */
 #endif
-/* 1: the estimators' Rs follows the warming winding in RUN (rs_adapt.h),
- * from the build's flux: set 0 when MOTOR_KE is only a guess. */
+/* 1: the estimators' Rs follows the warming winding in field weakening
+ * (rs_adapt.h).  It trusts the build's flux, so it is for a motor whose
+ * flux was measured (commissioning) and a magnet that keeps it: with the
+ * flux 10-20 % off it moves Rs the wrong way (the safety campaign's fan,
+ * seeds 101 and 209).  Off by default. */
 #ifndef RS_ADAPTATION
-#define RS_ADAPTATION 1
+#define RS_ADAPTATION 0
 #endif
 /* Sample to voltage: the voltage computed from the sample of period k is
  * centred SAMPLE_DELAY_PERIODS periods after that sample.  1.5 where the

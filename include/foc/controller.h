@@ -125,6 +125,8 @@ typedef struct {
     uint8_t deadtime_comp;  /* DEADTIME_COMPENSATION (deadtime.h) */
     uint8_t fault_brake;    /* FAULT_BRAKE: a fault shorts the windings */
                             /* (below the safe speed, not for over-current) */
+    uint8_t rs_adapt;       /* RS_ADAPTATION: Rs follows the winding's */
+                            /* warming in RUN (rs_adapt.h) */
     q15_t min_speed;        /* SENSORLESS_MIN_SPEED_RPM, Q15 of the speed */
                             /* base: sensorless commands raised to it */
 } foc_options_t;

@@ -18,10 +18,13 @@
  * constant of 64 slow ticks on the inputs' 20 ms filters); the converged
  * value does not depend on that step's scale.
  *
- * Observable only where the ohmic drop is a fair part of the EMF: it runs
- * while |iq| Rs >= |w psi| / 8 and holds otherwise.  A flux error dpsi
- * biases Rs by w dpsi / iq, at most 8 x Rs x dpsi / psi under that gate;
- * the ratio stays within [0.5, 2) of MOTOR_RS_OHM, the alignment's range.
+ * An Rs error turns the EMF only through the d current (dRs id lies
+ * across it; dRs iq only scales it), and Rs shows only where the ohmic
+ * drop is a fair part of the EMF: it runs while |id| >= |iq| / 4 (field
+ * weakening, MTPA) and |iq| Rs >= |w psi| / 4, and holds otherwise.  A
+ * flux error dpsi biases Rs by w dpsi / iq, up to 4 x Rs x dpsi / psi
+ * under that gate, so Rs stays within -1/8 .. +1/2 of what the alignment
+ * measured (a winding that warms, or cools a little, in one run).
  *
  * Units: voltages Q15 of the voltage base, currents Q15 of the current
  * base, speed Q15 of the speed base, ratios Q14 of the build's value.
@@ -36,10 +39,13 @@ typedef struct {
     foc_lpf_q15_t vd, vq; /* filtered voltage command, Q15 */
     foc_lpf_q15_t id, iq; /* filtered current, Q15 */
     foc_lpf_q15_t speed;  /* filtered speed estimate, Q15 */
+    q15_t rs_min_q14;     /* the range around the alignment's Rs, Q14 */
+    q15_t rs_max_q14;
 } foc_rs_adapt_t;
 
-/* Starts the filters at the present values (RUN's entry). */
-void foc_rs_adapt_reset(foc_rs_adapt_t *a, foc_dq_t v, foc_dq_t i, q15_t speed);
+/* Starts the filters at the present values (RUN's entry) and sets the
+ * range from the Rs ratio measured at the alignment, `rs_q14`. */
+void foc_rs_adapt_reset(foc_rs_adapt_t *a, foc_dq_t v, foc_dq_t i, q15_t speed, q15_t rs_q14);
 
 /* One slow tick: filters the inputs and returns the Rs ratio to use (Q14,
  * [FOC_RATIO_MIN_Q14, 32767]), `rs_q14` itself where the gate holds it.

@@ -89,21 +89,21 @@ static void case_luenberger_500rpm_switched(void)
  * and the angle error RMS stays within `limit_deg` in each 0.5 s window
  * from 2.5 s.
  *
- * At 500 and 1000 rpm the d current is about 0: the Rs error only scales
- * the EMF and the controller keeps the Rs it measured at the alignment
- * (rs_adapt.h's gate is shut); the issue's 3 deg holds.  Measured (seed
+ * At 500 and 1000 rpm (the build's options: RS_ADAPTATION off) the d
+ * current is about 0, the Rs error only scales the EMF and the controller
+ * keeps the Rs it measured at the alignment; the issue's 3 deg holds.  Measured (seed
  * 1), largest window, deg: PLL 1.98 (500 rpm), 1.91 (1000); Luenberger
  * 2.01, 1.64; flux 2.09 at 1000 rpm.  The flux estimator at 500 rpm is
  * not held (a false SPEED_FEEDBACK at 3.2 s; docs/estimators.md,
  * "Resistance drift").
  *
  * At 2000 rpm field weakening drives id to -1.47 A, the Rs error times id
- * lies across the EMF, and rs_adapt.c follows Rs (11.7 / 11.5 / 13.8 deg
- * without it).  Measured: PLL 3.56, Luenberger 3.64, flux 3.66 deg: the
+ * lies across the EMF (11.7 / 11.5 / 13.8 deg without adaptation): with
+ * RS_ADAPTATION on (focsim --rs-adapt on) rs_adapt.c follows Rs.  Measured: PLL 3.56, Luenberger 3.64, flux 3.66 deg: the
  * alignment's inductance, 9 % low under the noise, leaves w dL iq across
  * the EMF (2.5 deg) and biases the adapted Rs by -7 %.  Limit 4.5 deg,
  * not the issue's 3. */
-static void rs_drift(foc_est_kind_t kind, double speed_rpm, double limit_deg)
+static void rs_drift(foc_est_kind_t kind, double speed_rpm, int rs_adapt, double limit_deg)
 {
     char text[1024];
     int len = snprintf(text, sizeof text,
@@ -115,8 +115,12 @@ static void rs_drift(foc_est_kind_t kind, double speed_rpm, double limit_deg)
                         2.0 + 0.2 * k, MOTOR_RS_OHM * (1.0 + 0.04 * k));
     }
     snprintf(text + len, sizeof text - (size_t)len, "4.5 end\n");
+    sim_options_t opt;
+    sim_default_options(&opt);
+    opt.estimator = kind;
+    opt.rs_adapt = rs_adapt;
     run_t r;
-    run_scenario(text, kind, &r);
+    run_scenario_with(text, &opt, &r);
     TK_CHECK(r.final_state == FOC_STATE_RUN && r.fault == 0, "%s %g rpm: final %s %s",
              foc_est_name(kind), speed_rpm, foc_state_name(r.final_state), foc_fault_name(r.fault));
     for (double t = 2.5; t < 4.4; t += 0.5) {
@@ -133,18 +137,18 @@ static void rs_drift(foc_est_kind_t kind, double speed_rpm, double limit_deg)
 
 static void case_rs_drift(void)
 {
-    rs_drift(FOC_EST_PLL, 500.0, 3.0);
-    rs_drift(FOC_EST_PLL, 1000.0, 3.0);
-    rs_drift(FOC_EST_LUENBERGER, 500.0, 3.0);
-    rs_drift(FOC_EST_LUENBERGER, 1000.0, 3.0);
-    rs_drift(FOC_EST_FLUX, 1000.0, 3.0);
+    rs_drift(FOC_EST_PLL, 500.0, -1, 3.0);
+    rs_drift(FOC_EST_PLL, 1000.0, -1, 3.0);
+    rs_drift(FOC_EST_LUENBERGER, 500.0, -1, 3.0);
+    rs_drift(FOC_EST_LUENBERGER, 1000.0, -1, 3.0);
+    rs_drift(FOC_EST_FLUX, 1000.0, -1, 3.0);
 }
 
 static void case_rs_drift_field_weakening(void)
 {
-    rs_drift(FOC_EST_PLL, 2000.0, 4.5);
-    rs_drift(FOC_EST_LUENBERGER, 2000.0, 4.5);
-    rs_drift(FOC_EST_FLUX, 2000.0, 4.5);
+    rs_drift(FOC_EST_PLL, 2000.0, 1, 4.5);
+    rs_drift(FOC_EST_LUENBERGER, 2000.0, 1, 4.5);
+    rs_drift(FOC_EST_FLUX, 2000.0, 1, 4.5);
 }
 
 TK_CASES(TK_CASE(case_realistic_sets_the_set), TK_CASE(case_realistic_runs),

@@ -3,9 +3,10 @@
  * computed here in double precision from the build's motor (SI units,
  * then the Q15 bases):
  *   vd = Rs id - we Lq iq,   vq = Rs iq + we (Ld id + psi).
- * From a wrong starting ratio the adaptation must reach the winding's
+ * From the alignment's ratio the adaptation must reach the winding's
  * Rs / MOTOR_RS_OHM within 1 %, motoring and braking, in both
- * directions; and hold the ratio where its gate is shut.
+ * directions; stop at its range's ends (-1/8, +1/2 of where it began);
+ * and hold the ratio where its gate is shut.
  */
 #include <math.h>
 #include <stdio.h>
@@ -33,8 +34,8 @@ static double run(double rs_true, double rpm, double id, double iq, double start
     const foc_dq_t i = { q15_of(id, FOC_I_BASE_A), q15_of(iq, FOC_I_BASE_A) };
     const q15_t w = q15_of(rpm, SPEED_BASE_RPM);
     foc_rs_adapt_t a;
-    foc_rs_adapt_reset(&a, v, i, w);
     q15_t ratio = (q15_t)lround(start * 16384.0);
+    foc_rs_adapt_reset(&a, v, i, w, ratio);
     for (int k = 0; k < TICKS; k++) {
         ratio = foc_rs_adapt_tick(&a, v, i, w, ratio, FOC_RATIO_ONE_Q14);
     }
@@ -56,7 +57,7 @@ static void check_converges(double scale, double rpm_frac, double id_frac, doubl
 static void case_converges_motoring(void)
 {
     check_converges(1.3, 0.5, -0.5, 0.8, 1.0, "warm winding");
-    check_converges(0.7, 0.5, -0.5, 0.8, 1.5, "from above");
+    check_converges(0.9, 0.5, -0.5, 0.8, 1.0, "a cooler winding");
     check_converges(1.4, 0.3, -0.6, 0.6, 1.0, "lower speed");
 }
 
@@ -65,6 +66,18 @@ static void case_converges_braking_and_reverse(void)
     check_converges(1.3, 0.5, -0.5, -0.8, 1.0, "braking");
     check_converges(1.3, -0.5, -0.5, -0.8, 1.0, "reverse");
     check_converges(1.3, -0.5, -0.5, 0.8, 1.0, "reverse, braking");
+}
+
+/* The range: from the alignment's x1.0, a winding at x2.0 is followed to
+ * x1.5 only, one at x0.5 to x0.875. */
+static void case_range(void)
+{
+    const double ir = MOTOR_RATED_CURRENT_A;
+    const double rpm = 0.5 * MOTOR_MAX_SPEED_RPM;
+    const double up = run(2.0 * MOTOR_RS_OHM, rpm, -0.5 * ir, 0.8 * ir, 1.0);
+    const double down = run(0.5 * MOTOR_RS_OHM, rpm, -0.5 * ir, 0.8 * ir, 1.0);
+    printf("  x2.0 -> x%.4f, x0.5 -> x%.4f\n", up, down);
+    TK_CHECK(up == 1.5 && down == 0.875, "x%.4f x%.4f", up, down);
 }
 
 /* The gate: no d current worth a quarter of the q current, no ohmic drop
@@ -78,6 +91,7 @@ static void case_gate_holds(void)
         { rpm, 0.0, 0.8 * ir },       /* no d current */
         { rpm, -0.1 * ir, 0.8 * ir }, /* d current below a quarter of q */
         { rpm, -0.5 * ir, 0.0 },      /* no q current: no drop */
+        { rpm, -0.5 * ir, 0.15 * ir }, /* a drop below a quarter of the EMF */
         { 0.0, -0.5 * ir, 0.8 * ir }, /* standstill */
     };
     for (size_t k = 0; k < sizeof held / sizeof held[0]; k++) {
@@ -87,4 +101,4 @@ static void case_gate_holds(void)
 }
 
 TK_CASES(TK_CASE(case_converges_motoring), TK_CASE(case_converges_braking_and_reverse),
-         TK_CASE(case_gate_holds))
+         TK_CASE(case_range), TK_CASE(case_gate_holds))

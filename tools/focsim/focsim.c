@@ -85,10 +85,21 @@ static void usage(FILE *f)
           "              [--field-weakening off|table|voltage] [--stop-mode ramp|coast|short]\n"
           "              [--brake-resistor on|off] [--sensored-start] [--min-speed-rpm N]\n"
           "              [--pty [--pace F]] [--time] [--substeps N]\n"
-          "              [--ideal-inverter]\n"
+          "              [--ideal-inverter] [--rs-adapt on|off]\n"
           "              [--commission-out FILE.ini]\n"
           "              [--measure-from T] [--report] [--print-default-scenario]\n",
           f);
+}
+
+/* An on|off option's value into *out (1/0). */
+static int on_off(const char *opt, const char *val, int *out)
+{
+    if (strcmp(val, "on") != 0 && strcmp(val, "off") != 0) {
+        fprintf(stderr, "focsim: %s takes on or off\n", opt);
+        return -1;
+    }
+    *out = strcmp(val, "on") == 0;
+    return 0;
 }
 
 static int parse_ulong(const char *s, unsigned long *out)
@@ -130,11 +141,9 @@ static int parse_option(cli_t *cli, const char *opt, const char *val)
             return -1;
         }
     } else if (strcmp(opt, "--brake-resistor") == 0) {
-        if (strcmp(val, "on") != 0 && strcmp(val, "off") != 0) {
-            fprintf(stderr, "focsim: --brake-resistor takes on or off\n");
-            return -1;
-        }
-        cli->sim.brake_resistor = strcmp(val, "on") == 0;
+        return on_off(opt, val, &cli->sim.brake_resistor);
+    } else if (strcmp(opt, "--rs-adapt") == 0) {
+        return on_off(opt, val, &cli->sim.rs_adapt);
     } else if (strcmp(opt, "--seed") == 0) {
         if (parse_ulong(val, &n) != 0 || n > 0xFFFFFFFFul) {
             fprintf(stderr, "focsim: --seed takes a whole number 0..4294967295\n");

@@ -71,6 +71,7 @@ void sim_default_options(sim_options_t *o)
     o->fault_brake = -1;
     o->open_loop_only = -1;
     o->tuning = -1;
+    o->rs_adapt = -1;
     o->min_speed_rpm = -1;
     o->mtpa = -1;
     o->substeps = 0;
@@ -131,6 +132,9 @@ int sim_init(sim_t *s, const sim_options_t *o, const scn_t *scn, char *err,
     }
     if (o->tuning >= 0) {
         s->ctrl.opt.tuning = (uint8_t)(o->tuning != 0);
+    }
+    if (o->rs_adapt >= 0) {
+        s->ctrl.opt.rs_adapt = (uint8_t)(o->rs_adapt != 0);
     }
     if (o->min_speed_rpm >= 0) {
         s->ctrl.opt.min_speed = (q15_t)FOC_SPEED_Q15(o->min_speed_rpm > MOTOR_MAX_SPEED_RPM

@@ -40,6 +40,7 @@ typedef struct {
     int fault_brake;        /* 0/1, or -1 for userparms.h's FAULT_BRAKE */
     int open_loop_only;     /* 0/1, or -1: OPEN_LOOP_FUNCTIONING */
     int tuning;             /* 0/1, or -1: TUNING */
+    int rs_adapt;           /* 0/1, or -1: RS_ADAPTATION */
     int min_speed_rpm;      /* lowest sensorless command, rpm (0: none), */
                             /* or -1: SENSORLESS_MIN_SPEED_RPM */
     int mtpa;               /* 0/1, or -1: MTPA on salient rotors (FOC_SALIENT) */
