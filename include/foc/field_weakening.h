@@ -28,6 +28,8 @@ typedef enum {
 
 typedef struct {
     foc_pi_q15_t pi;   /* voltage mode */
+    foc_pi_tune_t gains; /* [init] its kp, ki mantissas, Q15 at the build's */
+                         /* exponents (FOC_FW_KP_SHIFT, 0); monitor-writable */
     q15_t id_ref;
     q15_t inv_kfi;     /* for the estimator (nominal outside table mode) */
     q15_t ls_scale;
