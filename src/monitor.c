@@ -275,9 +275,10 @@ static uint8_t var_info(uint8_t i, out_t *o)
     const char *unit = NULL; /* NULL: after the name, in name_unit */
     if (i < (uint8_t)FOC_VAR_COUNT) {
         const foc_var_info_t *v = foc_var_info((foc_var_t)i);
-        const uint64_t fs = (uint64_t)v->full_scale_nano;
+        const foc_var_scale_t *sc = foc_var_scale(v);
+        const uint64_t fs = (uint64_t)sc->full_scale_nano;
         q.name_unit = v->name;
-        unit = v->unit;
+        unit = sc->unit;
         q.fs_lo = (uint32_t)(fs & 0xFFFFFFFFu);
         q.fs_hi = (uint32_t)(fs >> 32u);
         q.max = (v->is_unsigned != 0u) ? 65535u : 32767u;
