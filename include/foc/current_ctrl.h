@@ -22,9 +22,9 @@ typedef struct {
                       /* band (foc_cc_q_forced), Q30 of the voltage base */
     q15_t ff_speed;   /* the feedforward's filtered speed, Q15 of */
                       /* SPEED_BASE_RPM */
-    foc_pi_tune_t gains; /* [init] both axes' kp, ki mantissas, Q15 at the */
-                         /* build's exponents (FOC_CURRENT_KP_SHIFT, 0); */
-                         /* the monitor writes them */
+    foc_pi_tune_t gains; /* [init] both axes' kp (0..65535) and ki */
+                         /* (0..32767) mantissas at the build's exponents */
+                         /* (FOC_CURRENT_KP_SHIFT, 0); the monitor's */
 } foc_current_ctrl_t;
 
 /* Both axes' gains as built (config.h): their exponents and Kc are

@@ -17,12 +17,13 @@
  * above 1 are possible; kp may reach +-65535 (a mantissa up to 2.0, the
  * monitor's headroom) where kp_shift <= 14: |kp e| < 2^31 and, shifted
  * right by at least 1, |Kp e| <= 2^30.  Ki = ki * 2^ki_shift / 32768 and
- * Kc are Q15 (per execution), in [0, 32767].  They are constants of the build (config.h),
- * held apart from the state in a `static const` foc_pi_gains_t: the inline
- * steps then fold them into immediates and constant shifts, and the state
- * in RAM is the integrator and the limits.  Where the monitor may write
- * kp and ki, only those two mantissas live in RAM (foc_pi_tune_t); the
- * exponents and Kc stay folded.  Error, output and limits are
+ * Kc are Q15 (per execution), in [0, 32767].  They are constants of the
+ * build (config.h), held apart from the state in a `static const`
+ * foc_pi_gains_t: the inline steps then fold them into immediates and
+ * constant shifts, and the state in RAM is the integrator and the limits.
+ * Where the monitor may write kp and ki, only those two mantissas live in
+ * RAM (foc_pi_tune_t); the exponents and Kc stay folded.  Error, output
+ * and limits are
  * Q15; the integrator is Q30 (the Q15 value times 2^15, with 15 fraction
  * bits: the Q30 products Ki e and Kc (y - u) add to it exactly).  It is
  * kept within the output range, |I| <= 2^30, so adding a product (< 2^30)
