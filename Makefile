@@ -220,8 +220,10 @@ STM32_SRC    := $(wildcard src/*.c) $(wildcard $(STM32_HAL)/*.c) \
 STM32_OBJ    := $(patsubst %.c,$(STM32_OUT)/obj/%.o,$(STM32_SRC))
 # The monitor runs in the main loop, never in the control interrupt: size
 # matters there, not speed (-Os: 2.3 KB against 3.2 KB at -O2, issue 15's
-# 2.5 KB).
-STM32_OS_OBJ := $(STM32_OUT)/obj/src/monitor.o $(STM32_OUT)/obj/src/mon_link.o
+# 2.5 KB).  So does the scope's configuration and read-back (scope.c); its
+# per-period sample (scope_sample.c, the fast step's tick) stays -O2.
+STM32_OS_OBJ := $(STM32_OUT)/obj/src/monitor.o $(STM32_OUT)/obj/src/mon_link.o \
+                $(STM32_OUT)/obj/src/scope.o
 $(STM32_OS_OBJ): STM32_FILE_OPT := -Os
 define STM32_NL
 

@@ -182,6 +182,7 @@ void foc_init(foc_ctrl_t *c)
     reset_run_state(c);
     outputs_off(c);
     c->est.rs_ratio = FOC_RATIO_ONE_Q14;
+    foc_est_gains_init(&c->est.gains);
     c->est.ls_ratio = FOC_RATIO_ONE_Q14;
     c->lprobe = 0;
     foc_est_reset(&c->est, 0, 1);

@@ -9,6 +9,7 @@ void foc_cc_init(foc_current_ctrl_t *cc)
     foc_pi_init(&cc->pi_q, (q15_t)-FOC_VOLTAGE_LIMIT, FOC_VOLTAGE_LIMIT);
     cc->pull_integ = 0;
     cc->ff_speed = 0;
+    cc->gains = foc_pi_tune_of(&foc_cc_gains);
 }
 
 void foc_cc_reset(foc_current_ctrl_t *cc)

@@ -11,8 +11,19 @@ int foc_est_select(foc_estimator_t *est, foc_est_kind_t kind)
     return 0;
 }
 
+void foc_est_gains_init(foc_est_gains_t *g)
+{
+    g->luen_kp = FOC_LUEN_PLL_KP_MANT;
+    g->luen_ki = FOC_LUEN_PLL_KI;
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    g->pll_track = (q15_t)FOC_PLL_TRACK_GAIN_Q14;
+    g->flux_corr_min = FOC_FLUX_CORR_MIN;
+    g->flux_corr_speed = FOC_FLUX_CORR_SPEED;
+}
+
 /* The sensorless estimator restarted at `theta` and `speed` (every
- * restart is made with no current in the windings). */
+ * restart is made with no current in the windings), with the gains
+ * `est->gains`. */
 static void restart_at(foc_estimator_t *est, uint16_t theta, q15_t speed)
 {
     static const foc_ab_t no_current = { 0, 0 };
@@ -20,16 +31,21 @@ static void restart_at(foc_estimator_t *est, uint16_t theta, q15_t speed)
     case FOC_EST_PLL:
         if (FOC_EST_BUILT(FOC_EST_PLL)) {
             foc_pll_reset(&est->u.pll, theta, speed, no_current);
+            est->u.pll.track_gain = est->gains.pll_track;
         }
         break;
     case FOC_EST_FLUX:
         if (FOC_EST_BUILT(FOC_EST_FLUX)) {
             foc_flux_reset(&est->u.flux, theta, speed, no_current);
+            est->u.flux.corr_min = est->gains.flux_corr_min;
+            est->u.flux.corr_speed = est->gains.flux_corr_speed;
         }
         break;
     case FOC_EST_LUENBERGER:
         if (FOC_EST_BUILT(FOC_EST_LUENBERGER)) {
             foc_luen_reset(&est->u.luenberger, theta, speed, no_current);
+            est->u.luenberger.pll_kp = est->gains.luen_kp;
+            est->u.luenberger.pll_ki = est->gains.luen_ki;
         }
         break;
     default:

@@ -42,6 +42,7 @@ void foc_fw_init(foc_fw_t *fw)
     fw->mode = (uint8_t)FW_MODE;
     fw->mtpa = (uint8_t)(FOC_SALIENT != 0);
     foc_pi_init(&fw->pi, (q15_t)-FOC_FW_ID_MAX, 0);
+    fw->gains = foc_pi_tune_of(&fw_gains);
     foc_fw_reset(fw);
 }
 
@@ -94,7 +95,8 @@ q15_t foc_fw_step(foc_fw_t *fw, q15_t speed_ref, q15_t v_mag, q15_t v_max)
     case FW_MODE_VOLTAGE: {
         /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
         const q15_t target = foc_mul_q15(v_max, FOC_FW_MARGIN);
-        fw->id_ref = foc_pi_step(&fw->pi, &fw_gains, foc_sub_q15(target, v_mag));
+        const foc_pi_gains_t g = foc_pi_gains_with(&fw->gains, &fw_gains);
+        fw->id_ref = foc_pi_step(&fw->pi, &g, foc_sub_q15(target, v_mag));
         break;
     }
     default:

@@ -58,6 +58,8 @@ void foc_flux_reset(foc_flux_est_t *f, uint16_t theta, q15_t speed, foc_ab_t i_n
     f->dtheta2 = step;
     f->theta = theta;
     foc_speed_obs_reset(&f->obs, theta, speed, foc_park_q15(i_now, sc).q);
+    f->corr_min = FOC_FLUX_CORR_MIN;
+    f->corr_speed = FOC_FLUX_CORR_SPEED;
 }
 
 /* Eq. 4 on one axis: psi += Ts (v - Rs i_mid), Q31.  v - Rs i reaches
@@ -114,10 +116,9 @@ static q15_t learn_radius(foc_flux_est_t *f, q15_t radial, q15_t speed_abs)
 }
 
 /* Correction gain per period (k_min + c |w|) Ts, Q15, at most G_MAX. */
-static int32_t correction_gain(q15_t speed_abs)
+static int32_t correction_gain(const foc_flux_est_t *f, q15_t speed_abs)
 {
-    const int32_t g =
-        (int32_t)FOC_FLUX_CORR_MIN + (int32_t)foc_mul_q15(speed_abs, FOC_FLUX_CORR_SPEED);
+    const int32_t g = (int32_t)f->corr_min + (int32_t)foc_mul_q15(speed_abs, f->corr_speed);
     return (g > G_MAX) ? G_MAX : g;
 }
 
@@ -143,7 +144,7 @@ void foc_flux_step(foc_flux_est_t *f, foc_ab_t v_last, foc_ab_t i_now, q15_t iq_
     const q15_t rb = rotor_flux(f->psi_beta, li_beta);
     const q15_t radial = foc_add_q15(foc_mul_q15(ra, sc.cos), foc_mul_q15(rb, sc.sin));
     const q15_t radius = learn_radius(f, radial, speed_abs);
-    const int32_t g = correction_gain(speed_abs);
+    const int32_t g = correction_gain(f, speed_abs);
     f->psi_alpha = correct(f->psi_alpha, foc_mul_q15(radius, sc.cos), ra, g);
     f->psi_beta = correct(f->psi_beta, foc_mul_q15(radius, sc.sin), rb, g);
 

@@ -105,6 +105,8 @@ void foc_luen_reset(foc_luenberger_t *l, uint16_t theta, q15_t speed, foc_ab_t i
     l->omega = speed;
     foc_lpf_init(&l->speed, speed);
     foc_luen_set_winding(l, FOC_RATIO_ONE_Q14, FOC_RATIO_ONE_Q14);
+    l->pll_kp = FOC_LUEN_PLL_KP_MANT;
+    l->pll_ki = FOC_LUEN_PLL_KI;
 }
 
 /* One axis of the observer: predicts the current from the last period's
@@ -222,8 +224,8 @@ void foc_luen_step(foc_luenberger_t *l, foc_ab_t v_last, foc_ab_t i_now)
     const q15_t g_w = foc_mul_q15_shift((q15_t)w_abs, FOC_LUEN_PLL_INV_FULL_MANT,
                                         FOC_LUEN_PLL_INV_FULL_SHIFT);
     const int32_t i_max = ((int32_t)foc_abs_q15(l->emf_speed) / 2 + AMP_MIN) * 32768;
-    l->integ = clamp32(l->integ + times_q15(FOC_LUEN_PLL_KI * (int32_t)phase_err, g_w), i_max);
-    const q15_t prop = foc_mul_q15_shift(phase_err, FOC_LUEN_PLL_KP_MANT, FOC_LUEN_PLL_KP_SHIFT);
+    l->integ = clamp32(l->integ + times_q15((int32_t)l->pll_ki * phase_err, g_w), i_max);
+    const q15_t prop = foc_mul_q15_shift(phase_err, l->pll_kp, FOC_LUEN_PLL_KP_SHIFT);
     /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     l->omega = foc_sat_q15((int32_t)l->emf_speed + prop + (l->integ >> 15));
 

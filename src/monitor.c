@@ -1,5 +1,7 @@
 /* Monitor: the binary protocol's commands; see monitor.h and
  * docs/monitor.md.  All multi-byte fields are little-endian. */
+#include <stddef.h>
+
 #include "foc/monitor.h"
 #include "foc/config.h"
 
@@ -23,16 +25,10 @@ FOC_STATIC_ASSERT((4u + (2u * FOC_MON_SCOPE_CHUNK) + 2u) <= FOC_LINK_TX_MAX,
                   "monitor: a scope chunk does not fit the reply buffer");
 
 /* The parameters: RAM fields of the controller worth changing from the
- * PC.  (The PI, observer and PLL gains are build constants, config.h, so
- * that the fast step folds them: they are not in RAM to write.) */
-#define P_SPEED_GAIN_SHIFT 0u /* speed PI gains / 2^n: the hunting guard's lever */
-#define P_MIN_SPEED 1u        /* sensorless minimum speed, Q15 of the speed base */
-#define P_STOP_MODE 2u        /* foc_stop_mode_t */
-#define P_FAULT_BRAKE 3u
-#define P_DEADTIME_COMP 4u
-#define P_BRAKE_RESISTOR 5u
-#define P_OPEN_LOOP_ONLY 6u
-#define P_TUNING 7u
+ * PC.  The gains are the Q15 mantissas of foc_pi_tune_t (0 .. 32767 at
+ * the build's exponents, which stay constants: their full scale is
+ * 2^shift per unit). */
+#define P_STOP_MODE 2u /* foc_stop_mode_t: an enum, set through stop_modes[] */
 
 #define F_WRITABLE 1u   /* may be written */
 #define F_RUNNING 2u    /* ... also while the motor is driven */
@@ -40,40 +36,111 @@ FOC_STATIC_ASSERT((4u + (2u * FOC_MON_SCOPE_CHUNK) + 2u) <= FOC_LINK_TX_MAX,
 #define T_U16 2u
 #define T_U8 3u
 
+/* 20 bytes an entry: the name and unit in one string, the full scale in
+ * two 32-bit halves (an int64_t would align the entry to 8: 24 bytes), the
+ * field as its offset in foc_ctrl_t (a table, not a switch per entry). */
 typedef struct {
-    const char *name;
-    const char *unit;
-    int64_t full_scale_nano;   /* physical value of 32768 counts, x 1e9 */
+    const char *name_unit;     /* "name\0" "unit" */
+    uint32_t fs_lo, fs_hi;     /* physical value of 32768 counts, x 1e9 */
     uint16_t max;              /* minimum 0 */
+    uint16_t field;            /* offsetof(foc_ctrl_t, the field): T_U8 a */
+                               /* uint8_t, T_I16 and T_U16 16-bit integers */
     uint8_t type;
     uint8_t flags;
 } param_t;
 
-#define COUNTS ((int64_t)32768 * 1000000000) /* value = counts */
+#define AT(field) (uint16_t)offsetof(foc_ctrl_t, field)
+
+/* The full scale x (physical value of 32768 counts) in 1e-9 units, in two
+ * halves. */
+#define FS(x) (uint32_t)((uint64_t)NANO(x) & 0xFFFFFFFFu), (uint32_t)((uint64_t)NANO(x) >> 32u)
+#define COUNTS FS(32768.0) /* value = counts */
+/* A gain's full scale: 2^shift (its exponent) per unit. */
+#define GAIN_FS(shift, unit) FS((double)(1UL << (shift)) * (unit))
+/* A PI's gain may be written under way: its integrator holds the output's
+ * integral part, so a new ki is bumpless and a new kp steps the output by
+ * the change times the present error.  An observer's only stopped (the
+ * estimator takes it at its next restart). */
+#define PI_GAIN T_U16, F_WRITABLE | F_RUNNING
+#define OBS_GAIN T_U16, F_WRITABLE
 
 static const param_t params[FOC_MON_PARAMS] = {
-    { "speed_gain_shift", "", COUNTS, FOC_SPEED_HUNT_SHIFT_MAX, T_U8, F_WRITABLE | F_RUNNING },
-    { "min_speed", "rpm", NANO(SPEED_BASE_RPM), 32767u, T_I16, F_WRITABLE },
-    { "stop_mode", "", COUNTS, 2u, T_U8, F_WRITABLE },
-    { "fault_brake", "", COUNTS, 1u, T_U8, F_WRITABLE },
-    { "deadtime_comp", "", COUNTS, 1u, T_U8, F_WRITABLE },
-    { "brake_resistor", "", COUNTS, 1u, T_U8, F_WRITABLE },
-    { "open_loop_only", "", COUNTS, 1u, T_U8, F_WRITABLE },
-    { "tuning", "", COUNTS, 1u, T_U8, F_WRITABLE },
+    { "speed_gain_shift\0", COUNTS, FOC_SPEED_HUNT_SHIFT_MAX, AT(speed_ctrl.gain_shift), T_U8,
+      F_WRITABLE | F_RUNNING },
+    { "min_speed\0" "rpm", FS(SPEED_BASE_RPM), 32767u, AT(opt.min_speed), T_I16, F_WRITABLE },
+    { "stop_mode\0", COUNTS, 2u, AT(opt.stop_mode), T_U8, F_WRITABLE }, /* P_STOP_MODE */
+    { "fault_brake\0", COUNTS, 1u, AT(opt.fault_brake), T_U8, F_WRITABLE },
+    { "deadtime_comp\0", COUNTS, 1u, AT(opt.deadtime_comp), T_U8, F_WRITABLE },
+    { "brake_resistor\0", COUNTS, 1u, AT(protection.resistor_enabled), T_U8, F_WRITABLE },
+    { "open_loop_only\0", COUNTS, 1u, AT(opt.open_loop_only), T_U8, F_WRITABLE },
+    { "tuning\0", COUNTS, 1u, AT(opt.tuning), T_U8, F_WRITABLE },
+    /* the speed PI: Q15 current per Q15 speed, and per slow tick */
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    { "speed_kp\0" "A/rpm", GAIN_FS(FOC_SPEED_KP_SHIFT, FOC_I_BASE_A / SPEED_BASE_RPM), 65535u,
+      AT(speed_ctrl.gains.kp), PI_GAIN },
+    { "speed_ki\0" "A/(rpm s)",
+      /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+      GAIN_FS(FOC_SPEED_KI_SHIFT, FOC_I_BASE_A / (SPEED_BASE_RPM * FOC_SLOW_TS_S)), 32767u,
+      AT(speed_ctrl.gains.ki), PI_GAIN },
+    /* the current PIs (both axes): Q15 voltage per Q15 current, per period */
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    { "current_kp\0" "V/A", GAIN_FS(FOC_CURRENT_KP_SHIFT, FOC_V_BASE_V / FOC_I_BASE_A), 65535u,
+      AT(current_ctrl.gains.kp), PI_GAIN },
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    { "current_ki\0" "V/(A s)", GAIN_FS(0u, FOC_V_BASE_V / (FOC_I_BASE_A * FOC_TS_S)), 32767u,
+      AT(current_ctrl.gains.ki), PI_GAIN },
+    /* the field-weakening PI: Q15 current per Q15 voltage, per slow tick */
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    { "fw_kp\0" "A/V", GAIN_FS(FOC_FW_KP_SHIFT, FOC_I_BASE_A / FOC_V_BASE_V), 65535u,
+      AT(fw.gains.kp), PI_GAIN },
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    { "fw_ki\0" "A/(V s)", GAIN_FS(0u, FOC_I_BASE_A / (FOC_V_BASE_V * FOC_SLOW_TS_S)), 32767u,
+      AT(fw.gains.ki), PI_GAIN },
+    /* the Luenberger observer's PLL: Q15 speed per Q15 sin(angle error) */
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    { "luen_pll_kp\0" "rpm/rad", GAIN_FS(FOC_LUEN_PLL_KP_SHIFT, SPEED_BASE_RPM), 32767u,
+      AT(est.gains.luen_kp), OBS_GAIN },
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    { "luen_pll_ki\0" "rpm/(rad s)", GAIN_FS(0u, SPEED_BASE_RPM / FOC_TS_S), 32767u,
+      AT(est.gains.luen_ki), OBS_GAIN },
+    /* the PLL estimator's flux tracking: Q14 per slow tick (< 2^14) */
+    { "pll_track_gain\0" "1/s", FS(2.0 / FOC_SLOW_TS_S), 16383u, AT(est.gains.pll_track),
+      OBS_GAIN },
+    /* the flux estimator's correction: (k_min + c |w_e|) Ts, Q15 */
+    { "flux_corr_min\0" "rad/s", FS(1.0 / FOC_TS_S), 16384u, AT(est.gains.flux_corr_min),
+      OBS_GAIN },
+    { "flux_corr_speed\0", FS(1.0 / (FOC_WE_BASE_RAD_S * FOC_TS_S)), 32767u,
+      AT(est.gains.flux_corr_speed), OBS_GAIN },
 };
 
-static uint16_t param_get(const foc_ctrl_t *c, uint8_t p)
+/* The parameter's field: its byte, or the first of its 16-bit integer's
+ * two, which are copied through a union (its bytes are the integer's
+ * object representation, whatever its signedness; no memcpy: the core is
+ * freestanding). */
+static uint8_t *field_of(foc_ctrl_t *c, const param_t *p)
 {
+    return &((uint8_t *)c)[p->field];
+}
+
+typedef union {
     uint16_t v;
-    switch (p) {
-    case P_SPEED_GAIN_SHIFT: v = c->speed_ctrl.gain_shift; break;
-    case P_MIN_SPEED: v = (uint16_t)c->opt.min_speed; break;
-    case P_STOP_MODE: v = (uint16_t)c->opt.stop_mode; break;
-    case P_FAULT_BRAKE: v = c->opt.fault_brake; break;
-    case P_DEADTIME_COMP: v = c->opt.deadtime_comp; break;
-    case P_BRAKE_RESISTOR: v = c->protection.resistor_enabled; break;
-    case P_OPEN_LOOP_ONLY: v = c->opt.open_loop_only; break;
-    default: v = c->opt.tuning; break; /* P_TUNING */
+    uint8_t b[2];
+} word_t;
+
+static uint16_t param_get(foc_ctrl_t *c, uint8_t k)
+{
+    const param_t *p = &params[k];
+    uint16_t v;
+    if (k == P_STOP_MODE) {
+        v = (uint16_t)c->opt.stop_mode;
+    } else if (p->type == T_U8) {
+        v = *field_of(c, p);
+    } else {
+        const uint8_t *f = field_of(c, p);
+        word_t w;
+        w.b[0] = f[0];
+        w.b[1] = f[1];
+        v = w.v;
     }
     return v;
 }
@@ -81,18 +148,19 @@ static uint16_t param_get(const foc_ctrl_t *c, uint8_t p)
 static const foc_stop_mode_t stop_modes[3] = { STOP_MODE_RAMP, STOP_MODE_COAST, STOP_MODE_SHORT };
 
 /* `v` is within the parameter's range. */
-static void param_set(foc_ctrl_t *c, uint8_t p, uint16_t v)
+static void param_set(foc_ctrl_t *c, uint8_t k, uint16_t v)
 {
-    const uint8_t b = (uint8_t)v;
-    switch (p) {
-    case P_SPEED_GAIN_SHIFT: c->speed_ctrl.gain_shift = b; break;
-    case P_MIN_SPEED: c->opt.min_speed = (q15_t)v; break;
-    case P_STOP_MODE: c->opt.stop_mode = stop_modes[b]; break;
-    case P_FAULT_BRAKE: c->opt.fault_brake = b; break;
-    case P_DEADTIME_COMP: c->opt.deadtime_comp = b; break;
-    case P_BRAKE_RESISTOR: c->protection.resistor_enabled = b; break;
-    case P_OPEN_LOOP_ONLY: c->opt.open_loop_only = b; break;
-    default: c->opt.tuning = b; break; /* P_TUNING */
+    const param_t *p = &params[k];
+    if (k == P_STOP_MODE) {
+        c->opt.stop_mode = stop_modes[v];
+    } else if (p->type == T_U8) {
+        *field_of(c, p) = (uint8_t)v;
+    } else {
+        uint8_t *f = field_of(c, p);
+        word_t w;
+        w.v = v;
+        f[0] = w.b[0];
+        f[1] = w.b[1];
     }
 }
 
@@ -123,15 +191,9 @@ static void put32(out_t *o, uint32_t v)
     put16(o, (uint16_t)(v >> 16u));
 }
 
-/* A NUL-terminated string, cut where the reply is full. */
-static void put64(out_t *o, int64_t v)
-{
-    const uint64_t u = (uint64_t)v;
-    put32(o, (uint32_t)(u & 0xFFFFFFFFu));
-    put32(o, (uint32_t)(u >> 32u));
-}
-
-static void put_str(out_t *o, const char *s)
+/* A NUL-terminated string, cut where the reply is full; returns what
+ * follows its NUL. */
+static const char *put_str(out_t *o, const char *s)
 {
     const char *q = s;
     while (*q != '\0') {
@@ -139,6 +201,7 @@ static void put_str(out_t *o, const char *s)
         q++;
     }
     put8(o, 0u);
+    return &q[1];
 }
 
 static uint16_t get16(const uint8_t *p)
@@ -180,8 +243,8 @@ static void identify(out_t *o)
     put32(o, MICRO(FOC_V_BASE_V));
     put32(o, MICRO(FOC_VDC_BASE_V));
     put32(o, (uint32_t)(double)(SPEED_BASE_RPM * 1000.0 + 0.5));
-    put_str(o, FOC_BOARD_NAME);
-    put_str(o, FOC_MOTOR_NAME);
+    (void)put_str(o, FOC_BOARD_NAME);
+    (void)put_str(o, FOC_MOTOR_NAME);
 }
 
 static void status(const foc_mon_t *m, out_t *o)
@@ -204,31 +267,37 @@ static void status(const foc_mon_t *m, out_t *o)
     put8(o, (m->scope != NULL) ? (uint8_t)foc_scope_state(m->scope) : 0u);
 }
 
-static uint8_t var_info(const foc_mon_t *m, uint8_t i, out_t *o)
+/* A variable's entry is put as a parameter's: read-only, its unit apart. */
+static uint8_t var_info(uint8_t i, out_t *o)
 {
     uint8_t e = FOC_MON_OK;
+    param_t q = { NULL, 0u, 0u, 0u, 0u, 0u, 0u };
+    const char *unit = NULL; /* NULL: after the name, in name_unit */
     if (i < (uint8_t)FOC_VAR_COUNT) {
         const foc_var_info_t *v = foc_var_info((foc_var_t)i);
-        put8(o, i);
-        put8(o, (v->is_unsigned != 0u) ? T_U16 : T_I16);
-        put8(o, 0u);
-        put16(o, (v->is_unsigned != 0u) ? 65535u : 32767u);
-        put64(o, v->full_scale_nano);
-        put_str(o, v->name);
-        put_str(o, v->unit);
+        const foc_var_scale_t *sc = foc_var_scale(v);
+        const uint64_t fs = (uint64_t)sc->full_scale_nano;
+        q.name_unit = v->name;
+        unit = sc->unit;
+        q.fs_lo = (uint32_t)(fs & 0xFFFFFFFFu);
+        q.fs_hi = (uint32_t)(fs >> 32u);
+        q.max = (v->is_unsigned != 0u) ? 65535u : 32767u;
+        q.type = (v->is_unsigned != 0u) ? T_U16 : T_I16;
     } else if (i >= FOC_MON_PARAM_BASE && i < (uint8_t)(FOC_MON_PARAM_BASE + FOC_MON_PARAMS)) {
-        const param_t *p = &params[i - FOC_MON_PARAM_BASE];
-        put8(o, i);
-        put8(o, p->type);
-        put8(o, p->flags);
-        put16(o, p->max);
-        put64(o, p->full_scale_nano);
-        put_str(o, p->name);
-        put_str(o, p->unit);
+        q = params[i - FOC_MON_PARAM_BASE];
     } else {
         e = FOC_MON_E_RANGE;
     }
-    (void)m;
+    if (e == FOC_MON_OK) {
+        put8(o, i);
+        put8(o, q.type);
+        put8(o, q.flags);
+        put16(o, q.max);
+        put32(o, q.fs_lo);
+        put32(o, q.fs_hi);
+        const char *next = put_str(o, q.name_unit);
+        (void)put_str(o, (unit != NULL) ? unit : next);
+    }
     return e;
 }
 
@@ -404,7 +473,7 @@ static void execute(foc_mon_t *m, uint8_t n, out_t *o)
         case FOC_MON_ACK: foc_cmd_ack(c); break;
         case FOC_MON_SPEED: foc_cmd_speed(c, (q15_t)get16(a)); break;
         case FOC_MON_STATUS: status(m, o); break;
-        case FOC_MON_VAR_INFO: e = var_info(m, a[0], o); break;
+        case FOC_MON_VAR_INFO: e = var_info(a[0], o); break;
         case FOC_MON_VAR_READ: e = var_read(m, a[0], o); break;
         case FOC_MON_VAR_WRITE: e = var_write(m, a[0], get16(&a[1])); break;
         case FOC_MON_SCOPE_SET: e = scope_set(m->scope, a, na); break;

@@ -55,6 +55,8 @@ void foc_pll_reset(foc_pll_t *p, uint16_t theta, q15_t speed, foc_ab_t i_now)
     p->e_sum_beta = (int32_t)e_ab.beta * (int32_t)FOC_PLL_AVG_N;
     p->e_next = 0;
     p->low_speed = (uint8_t)(foc_abs_q15(speed) < FOC_PLL_LOW_SPEED);
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    p->track_gain = (q15_t)FOC_PLL_TRACK_GAIN_Q14;
 }
 
 /* Current change over one period, limited to what the winding allows
@@ -160,14 +162,13 @@ void foc_pll_track_reset(foc_pll_t *p)
 
 void foc_pll_track_flux(foc_pll_t *p)
 {
-    /* 16-bit reads of what the step writes; |lead| x gain < 2^29, the sum
-     * < 2^30 */
+    /* 16-bit reads of what the step writes; |lead| x gain < 2^29 (gain
+     * < 2^14), the sum < 2^30 */
     const q15_t edf = foc_lpf_out(&p->ed);
     const q15_t eqf = foc_lpf_out(&p->eq);
     const int32_t lead = lead_of(p, edf);
     const int32_t track_max = (int32_t)foc_abs_q15(eqf) * 16384; /* << 14 */
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    int32_t track = p->flux_track + lead * FOC_PLL_TRACK_GAIN_Q14;
+    int32_t track = p->flux_track + lead * (int32_t)p->track_gain;
     if (track > track_max) {
         track = track_max;
     } else if (track < -track_max) {

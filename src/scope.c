@@ -4,84 +4,80 @@
 /* Physical value of 32768 counts in 1e-9 units, folded at compile time. */
 #define FS_NANO(x) ((int64_t)((x) * 1e9 + 0.5))
 
-#define FS_CURRENT FS_NANO(FOC_I_BASE_A)
-#define FS_VOLTAGE FS_NANO(FOC_V_BASE_V)
-#define FS_ANGLE FS_NANO(180.0)           /* 65536 counts = 360 deg */
-#define FS_SPEED FS_NANO(SPEED_BASE_RPM)
-#define FS_VDC FS_NANO(FOC_VDC_BASE_V)
-#define FS_ADC FS_NANO(BOARD_ADC_VREF_V)
-#define FS_FRACTION FS_NANO(1.0)
-#define FS_COUNTS FS_NANO(32768.0)        /* value = counts */
-
 /* The monitor converts with 64-bit products of counts and these scales. */
 FOC_STATIC_ASSERT(SPEED_BASE_RPM <= 1.0e5 && FOC_VDC_BASE_V <= 1.0e5 &&
                       FOC_I_BASE_A <= 1.0e5 && FOC_V_BASE_V <= 1.0e5,
                   "scope: a per-unit base above 1e5 overflows the monitor's conversions");
 
+/* The kinds of variable: a unit and the physical value of 32768 counts
+ * (1e-9 units), held once for all the variables of a kind. */
+#define SCALE_CURRENT 0u
+#define SCALE_VOLTAGE 1u
+#define SCALE_ANGLE 2u
+#define SCALE_SPEED 3u
+#define SCALE_VDC 4u
+#define SCALE_ADC 5u
+#define SCALE_FRACTION 6u
+#define SCALE_COUNTS 7u
+static const foc_var_scale_t scales[8] = {
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    [SCALE_CURRENT] = { "A", FS_NANO(FOC_I_BASE_A) },
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    [SCALE_VOLTAGE] = { "V", FS_NANO(FOC_V_BASE_V) },
+    /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
+    [SCALE_ANGLE] = { "deg", FS_NANO(180.0) }, /* 65536 counts = 360 deg */
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    [SCALE_SPEED] = { "rpm", FS_NANO(SPEED_BASE_RPM) },
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    [SCALE_VDC] = { "V", FS_NANO(FOC_VDC_BASE_V) },
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    [SCALE_ADC] = { "V", FS_NANO(BOARD_ADC_VREF_V) },
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    [SCALE_FRACTION] = { "", FS_NANO(1.0) },
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    [SCALE_COUNTS] = { "", FS_NANO(32768.0) }, /* value = counts */
+};
+
 static const foc_var_info_t var_table[FOC_VAR_COUNT] = {
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_IA] = { "ia", "A", FS_CURRENT, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_IB] = { "ib", "A", FS_CURRENT, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_IC] = { "ic", "A", FS_CURRENT, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_IALPHA] = { "ialpha", "A", FS_CURRENT, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_IBETA] = { "ibeta", "A", FS_CURRENT, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_ID] = { "id", "A", FS_CURRENT, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_IQ] = { "iq", "A", FS_CURRENT, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_ID_REF] = { "id_ref", "A", FS_CURRENT, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_IQ_REF] = { "iq_ref", "A", FS_CURRENT, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_VD] = { "vd", "V", FS_VOLTAGE, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_VQ] = { "vq", "V", FS_VOLTAGE, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_VALPHA] = { "valpha", "V", FS_VOLTAGE, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_VBETA] = { "vbeta", "V", FS_VOLTAGE, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
-    [FOC_VAR_THETA] = { "theta", "deg", FS_ANGLE, 1 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
-    [FOC_VAR_THETA_EST] = { "theta_est", "deg", FS_ANGLE, 1 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
-    [FOC_VAR_THETA_SENSOR] = { "theta_sensor", "deg", FS_ANGLE, 1 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_SPEED] = { "speed", "rpm", FS_SPEED, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_SPEED_EST] = { "speed_est", "rpm", FS_SPEED, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_SPEED_REF] = { "speed_ref", "rpm", FS_SPEED, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_SPEED_CMD] = { "speed_cmd", "rpm", FS_SPEED, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_SPEED_FORCED] = { "speed_forced", "rpm", FS_SPEED, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_VDC] = { "vdc", "V", FS_VDC, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_TEMP] = { "temp", "V", FS_ADC, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_POT] = { "pot", "", FS_FRACTION, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_DUTY_A] = { "duty_a", "", FS_FRACTION, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_DUTY_B] = { "duty_b", "", FS_FRACTION, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_DUTY_C] = { "duty_c", "", FS_FRACTION, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_STATE] = { "state", "", FS_COUNTS, 0 },
-    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-    [FOC_VAR_FAULTS] = { "faults", "", FS_COUNTS, 1 },
+    [FOC_VAR_IA] = { "ia", SCALE_CURRENT, 0 },
+    [FOC_VAR_IB] = { "ib", SCALE_CURRENT, 0 },
+    [FOC_VAR_IC] = { "ic", SCALE_CURRENT, 0 },
+    [FOC_VAR_IALPHA] = { "ialpha", SCALE_CURRENT, 0 },
+    [FOC_VAR_IBETA] = { "ibeta", SCALE_CURRENT, 0 },
+    [FOC_VAR_ID] = { "id", SCALE_CURRENT, 0 },
+    [FOC_VAR_IQ] = { "iq", SCALE_CURRENT, 0 },
+    [FOC_VAR_ID_REF] = { "id_ref", SCALE_CURRENT, 0 },
+    [FOC_VAR_IQ_REF] = { "iq_ref", SCALE_CURRENT, 0 },
+    [FOC_VAR_VD] = { "vd", SCALE_VOLTAGE, 0 },
+    [FOC_VAR_VQ] = { "vq", SCALE_VOLTAGE, 0 },
+    [FOC_VAR_VALPHA] = { "valpha", SCALE_VOLTAGE, 0 },
+    [FOC_VAR_VBETA] = { "vbeta", SCALE_VOLTAGE, 0 },
+    [FOC_VAR_THETA] = { "theta", SCALE_ANGLE, 1 },
+    [FOC_VAR_THETA_EST] = { "theta_est", SCALE_ANGLE, 1 },
+    [FOC_VAR_THETA_SENSOR] = { "theta_sensor", SCALE_ANGLE, 1 },
+    [FOC_VAR_SPEED] = { "speed", SCALE_SPEED, 0 },
+    [FOC_VAR_SPEED_EST] = { "speed_est", SCALE_SPEED, 0 },
+    [FOC_VAR_SPEED_REF] = { "speed_ref", SCALE_SPEED, 0 },
+    [FOC_VAR_SPEED_CMD] = { "speed_cmd", SCALE_SPEED, 0 },
+    [FOC_VAR_SPEED_FORCED] = { "speed_forced", SCALE_SPEED, 0 },
+    [FOC_VAR_VDC] = { "vdc", SCALE_VDC, 0 },
+    [FOC_VAR_TEMP] = { "temp", SCALE_ADC, 0 },
+    [FOC_VAR_POT] = { "pot", SCALE_FRACTION, 0 },
+    [FOC_VAR_DUTY_A] = { "duty_a", SCALE_FRACTION, 0 },
+    [FOC_VAR_DUTY_B] = { "duty_b", SCALE_FRACTION, 0 },
+    [FOC_VAR_DUTY_C] = { "duty_c", SCALE_FRACTION, 0 },
+    [FOC_VAR_STATE] = { "state", SCALE_COUNTS, 0 },
+    [FOC_VAR_FAULTS] = { "faults", SCALE_COUNTS, 1 },
 };
 
 const foc_var_info_t *foc_var_info(foc_var_t var)
 {
     return ((unsigned)var < (unsigned)FOC_VAR_COUNT) ? &var_table[var] : NULL;
+}
+
+const foc_var_scale_t *foc_var_scale(const foc_var_info_t *info)
+{
+    return &scales[info->scale];
 }
 
 static uint8_t same_name(const char *a, const char *b)
@@ -356,61 +352,4 @@ void foc_scope_dac(foc_scope_t *s, q15_t *ch1, q15_t *ch2)
     s->state_shadow = (int16_t)s->ctrl->state;
     *ch1 = *s->dac_src[0];
     *ch2 = *s->dac_src[1];
-}
-
-/* The trigger variable as a count in its own range (0..65535 unsigned). */
-static int32_t trigger_counts(const foc_scope_t *s)
-{
-    const int16_t raw = *s->trig_src;
-    return (s->trig_unsigned != 0u) ? (int32_t)(uint16_t)raw : (int32_t)raw;
-}
-
-static uint8_t fired(const foc_scope_t *s, int32_t now)
-{
-    if (s->edge == (uint8_t)FOC_TRIG_IMMEDIATE) {
-        return 1u;
-    }
-    if (s->stored < 2u) {
-        return 0u; /* an edge needs the frame before */
-    }
-    const uint8_t rising = (uint8_t)(s->prev < s->level && now >= s->level);
-    const uint8_t falling = (uint8_t)(s->prev >= s->level && now < s->level);
-    switch (s->edge) {
-    case FOC_TRIG_RISING: return rising;
-    case FOC_TRIG_FALLING: return falling;
-    default: return (uint8_t)(rising | falling);
-    }
-}
-
-void foc_scope_sample(foc_scope_t *s)
-{
-    if (--s->decim_left != 0u) {
-        return;
-    }
-    s->decim_left = s->decim;
-    s->state_shadow = (int16_t)s->ctrl->state;
-    int16_t *frame = &s->buf[s->wr];
-    const uint8_t n = s->nch;
-    for (uint8_t ch = 0; ch < n; ch++) {
-        frame[ch] = *s->src[ch];
-    }
-    const uint16_t next = (uint16_t)(s->wr + n);
-    s->wr = (next >= s->end) ? 0u : next;
-
-    if (s->mode == (uint8_t)FOC_SCOPE_TRIGGERED) {
-        if (--s->post_left == 0u) {
-            s->mode = (uint8_t)FOC_SCOPE_DONE;
-        }
-        return;
-    }
-    /* ARMED */
-    const int32_t now = trigger_counts(s);
-    if (s->stored < UINT16_MAX) {
-        s->stored++;
-    }
-    if (s->stored > s->pre && fired(s, now) != 0u) {
-        s->post_left = (uint16_t)(s->frames - s->pre - 1u);
-        s->mode = (uint8_t)((s->post_left == 0u) ? FOC_SCOPE_DONE : FOC_SCOPE_TRIGGERED);
-    }
-    s->prev = now;
 }

@@ -13,6 +13,7 @@ void foc_sc_init(foc_speed_ctrl_t *sc)
     /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     sc->step15 = FOC_SPEED_RAMP_STEP15;
     foc_pi_init(&sc->pi, (q15_t)-FOC_CURRENT_LIMIT, FOC_CURRENT_LIMIT);
+    sc->gains = foc_pi_tune_of(&speed_gains);
     sc->gain_shift = 0;
     sc->hunt_side = 0;
     sc->hunt_count = 0;
@@ -54,10 +55,11 @@ q15_t foc_sc_iq_limit(q15_t id_ref)
  * count.  Kc, the ratio of the two, stays. */
 static q15_t pi_step(foc_speed_ctrl_t *sc, q15_t e)
 {
+    const foc_pi_gains_t g = foc_pi_gains_with(&sc->gains, &speed_gains);
     /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-    const int32_t u = (sc->pi.integ >> 15) + (foc_pi_kp_term(&speed_gains, e) >> sc->gain_shift);
+    const int32_t u = (sc->pi.integ >> 15) + (foc_pi_kp_term(&g, e) >> sc->gain_shift);
     /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-    return foc_pi_finish_ki(&sc->pi, &speed_gains, foc_pi_ki_term(&speed_gains, e) >> sc->gain_shift, u);
+    return foc_pi_finish_ki(&sc->pi, &g, foc_pi_ki_term(&g, e) >> sc->gain_shift, u);
 }
 
 /* The loop hunting: the q reference from beyond half its limit one way to

@@ -955,7 +955,8 @@ FOC_STATIC_ASSERT(MOTOR_MAX_SPEED_RPM < SPEED_BASE_RPM,
 FOC_STATIC_ASSERT(FOC_DTHETA_AT_BASE < 16384.0,
                   "SPEED_BASE_RPM x MOTOR_POLE_PAIRS too high for PWM_FREQUENCY_HZ "
                   "(more than 90 electrical degrees per PWM period)");
-FOC_STATIC_ASSERT(FOC_CURRENT_KP_PU < 32768.0,
+/* Below 2^14: the monitor may double a proportional mantissa (pi.h). */
+FOC_STATIC_ASSERT(FOC_CURRENT_KP_PU < 16384.0,
                   "CURRENT_KP_V_PER_A overflows its per-unit gain format");
 FOC_STATIC_ASSERT(CURRENT_DIST_RATIO >= 0.0 && CURRENT_DIST_RATIO <= 1.0,
                   "CURRENT_DIST_RATIO must be in [0, 1] (the disturbance rejection "
@@ -973,7 +974,7 @@ FOC_STATIC_ASSERT(FOC_CURRENT_KREF_V_PER_A < CURRENT_KP_V_PER_A,
 FOC_STATIC_ASSERT(FOC_CURRENT_KI_PU / FOC_CURRENT_KP_PU < 1.0,
                   "CURRENT_KI_V_PER_AS / CURRENT_KP_V_PER_A too high for the "
                   "anti-windup gain");
-FOC_STATIC_ASSERT(FOC_SPEED_KP_PU < 32768.0,
+FOC_STATIC_ASSERT(FOC_SPEED_KP_PU < 16384.0,
                   "SPEED_KP_A_PER_RPM overflows its per-unit gain format");
 FOC_STATIC_ASSERT(FOC_SPEED_KI_PU < 32768.0,
                   "SPEED_KI_A_PER_RPM_S overflows its per-unit gain format");
@@ -1037,7 +1038,7 @@ FOC_STATIC_ASSERT(FW_ID_MAX_A >= 0.0 && FW_ID_MAX_A <= CURRENT_LIMIT_A,
                   "FW_ID_MAX_A must be within [0, CURRENT_LIMIT_A]");
 FOC_STATIC_ASSERT(FW_VOLTAGE_MARGIN > 0.5 && FW_VOLTAGE_MARGIN <= 1.0,
                   "FW_VOLTAGE_MARGIN must be in (0.5, 1]");
-FOC_STATIC_ASSERT(FOC_FW_KP_PU > 0.0 && FOC_FW_KP_PU < 32768.0 && FOC_FW_KI_PU < 1.0 &&
+FOC_STATIC_ASSERT(FOC_FW_KP_PU > 0.0 && FOC_FW_KP_PU < 16384.0 && FOC_FW_KI_PU < 1.0 &&
                   FOC_FW_KI_PU / FOC_FW_KP_PU < 1.0,
                   "FW_VOLTAGE_KP_A_PER_V / FW_VOLTAGE_KI_A_PER_VS out of range");
 FOC_STATIC_ASSERT(FW_START_RPM > 0.0 && FW_END_RPM > FW_START_RPM && FW_END_RPM < SPEED_BASE_RPM,

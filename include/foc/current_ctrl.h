@@ -22,9 +22,13 @@ typedef struct {
                       /* band (foc_cc_q_forced), Q30 of the voltage base */
     q15_t ff_speed;   /* the feedforward's filtered speed, Q15 of */
                       /* SPEED_BASE_RPM */
+    foc_pi_tune_t gains; /* [init] both axes' kp (0..65535) and ki */
+                         /* (0..32767) mantissas at the build's exponents */
+                         /* (FOC_CURRENT_KP_SHIFT, 0); the monitor's */
 } foc_current_ctrl_t;
 
-/* Both axes' gains (config.h), constants the inline steps fold. */
+/* Both axes' gains as built (config.h): their exponents and Kc are
+ * constants the inline steps fold; kp and ki are read from `gains`. */
 static const foc_pi_gains_t foc_cc_gains =
     FOC_PI_GAINS(FOC_CURRENT_KP_MANT, FOC_CURRENT_KP_SHIFT, FOC_CURRENT_KI, 0, FOC_CURRENT_KC);
 
@@ -70,7 +74,8 @@ static inline q15_t foc_cc_d_axis(foc_current_ctrl_t *cc, q15_t id_ref, q15_t id
     /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     cc->pi_d.integ -= (int32_t)step * FOC_CURRENT_KREF_Q30;
     foc_pi_limit_next(&cc->pi_d, v_max);
-    return foc_pi_step(&cc->pi_d, &foc_cc_gains, foc_sub_q15(id_ref, id_meas));
+    const foc_pi_gains_t g = foc_pi_gains_with(&cc->gains, &foc_cc_gains);
+    return foc_pi_step(&cc->pi_d, &g, foc_sub_q15(id_ref, id_meas));
 }
 
 /* The q axis of one PWM period, after the d axis gave vd: the PI on the
@@ -82,12 +87,13 @@ static inline q15_t foc_cc_q_axis(foc_current_ctrl_t *cc, q15_t iq_ref, q15_t iq
     /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     cc->pi_q.integ -= (int32_t)step * FOC_CURRENT_KREF_Q30;
     const q15_t e_q = foc_sub_q15(iq_ref, iq_meas);
-    const int32_t u_q = foc_pi_unsat(&cc->pi_q, &foc_cc_gains, e_q);
+    const foc_pi_gains_t g = foc_pi_gains_with(&cc->gains, &foc_cc_gains);
+    const int32_t u_q = foc_pi_unsat(&cc->pi_q, &g, e_q);
     const q15_t candidate = (u_q > v_max) ? v_max : (u_q < -v_max) ? (q15_t)-v_max : (q15_t)u_q;
     const q15_t vq_max = foc_cc_outside(v_max, vd, candidate) ? foc_cc_circle_q(v_max, vd)
                                                                : v_max;
     foc_pi_limit_next(&cc->pi_q, vq_max);
-    return foc_pi_finish(&cc->pi_q, &foc_cc_gains, e_q, u_q);
+    return foc_pi_finish(&cc->pi_q, &g, e_q, u_q);
 }
 
 /* The q axis with the q voltage given instead of regulated: `vq` limited
@@ -108,16 +114,17 @@ static inline q15_t foc_cc_q_forced(foc_current_ctrl_t *cc, q15_t vq, q15_t iq_m
                           : (iq_meas < -iq_max) ? (q15_t)-iq_max
                                                 : iq_meas;
     const q15_t excess = foc_sub_q15(iq_free, iq_meas); /* 0 inside the band */
+    const foc_pi_gains_t g = foc_pi_gains_with(&cc->gains, &foc_cc_gains);
     if (excess != 0) {
         /* |pull_integ| <= 2^30 before, |Ki e| <= 2^30: no overflow */
-        cc->pull_integ += foc_pi_ki_term(&foc_cc_gains, excess);
+        cc->pull_integ += foc_pi_ki_term(&g, excess);
         const q31_t lim = FOC_PI_Q15_TO_Q30(v_max);
         cc->pull_integ = (cc->pull_integ > lim) ? lim : (cc->pull_integ < -lim) ? -lim : cc->pull_integ;
     } else {
         /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
         cc->pull_integ -= cc->pull_integ >> FOC_CC_PULL_LEAK_BITS;
     }
-    const q15_t pull = foc_add_q15(foc_sat_q15(foc_pi_kp_term(&foc_cc_gains, excess)),
+    const q15_t pull = foc_add_q15(foc_sat_q15(foc_pi_kp_term(&g, excess)),
                                    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
                                    (q15_t)(cc->pull_integ >> 15));
     vq = foc_add_q15(vq, pull);

@@ -37,6 +37,17 @@ typedef struct {
     uint16_t theta_sensor;  /* position sensor, if any */
 } foc_est_input_t;
 
+/* The estimators' gains the monitor may write (in IDLE or FAULT only: an
+ * observer's gain changed under way could lose the angle), kept over
+ * resets and handed to the running estimator at each restart: */
+typedef struct {
+    q15_t luen_kp;          /* the Luenberger PLL's kp mantissa (shift */
+    q15_t luen_ki;          /* FOC_LUEN_PLL_KP_SHIFT) and ki, Q15, 0..32767 */
+    q15_t pll_track;        /* the PLL's flux tracking gain, Q14, 0..16383 */
+    q15_t flux_corr_min;    /* the flux estimator's correction gain per */
+    q15_t flux_corr_speed;  /* period: k_min Ts and c w_base Ts, Q15 */
+} foc_est_gains_t;
+
 typedef struct {
     uint8_t kind;           /* foc_est_kind_t (one byte: the struct packs) */
     uint8_t use_sensor;     /* 1: the controller runs on the sensor */
@@ -47,6 +58,7 @@ typedef struct {
     q15_t rs_ratio;         /* [slow] Rs / MOTOR_RS_OHM, Q14: the alignment's */
                             /* measure, kept over restarts */
     q15_t ls_ratio;         /* [slow] Ls / MOTOR_LQ_H, Q14: the same */
+    foc_est_gains_t gains;  /* [init] the monitor's, applied at restarts */
     foc_sensored_t sensored;
     union {                 /* one sensorless estimator runs at a time */
         foc_pll_t pll;
@@ -54,6 +66,9 @@ typedef struct {
         foc_flux_est_t flux;
     } u;
 } foc_estimator_t;
+
+/* The build's gains (config.h). */
+void foc_est_gains_init(foc_est_gains_t *g);
 
 /* Selects the estimator (kept over resets); 0, or -1 if
  * that kind is not built (the selection is then unchanged).  Firmware

@@ -28,6 +28,9 @@ typedef enum {
 
 typedef struct {
     foc_pi_q15_t pi;   /* voltage mode */
+    foc_pi_tune_t gains; /* [init] its kp (0..65535), ki (0..32767) mantissas */
+                         /* at the build's exponents (FOC_FW_KP_SHIFT, 0); */
+                         /* the monitor writes them */
     q15_t id_ref;
     q15_t inv_kfi;     /* for the estimator (nominal outside table mode) */
     q15_t ls_scale;

@@ -76,6 +76,9 @@ typedef struct {
     q15_t rs;                  /* [slow] Rs mantissa (FOC_RS2_SHIFT) */
     q15_t ls;                  /* [slow] Ls, Q15 of the flux base per */
                                /* current base (FOC_FLUX_LS nominal) */
+    q15_t corr_min;            /* the correction's gain per period (k_min */
+    q15_t corr_speed;          /* + c |w|) Ts: k_min Ts and c w_base Ts, */
+                               /* Q15, 0..32767 (FOC_FLUX_CORR_* at reset) */
 } foc_flux_est_t;
 
 /* Restarts from angle `theta` and speed `speed` (Q15) with the present

@@ -144,6 +144,8 @@ typedef struct {
     foc_lpf_q15_t speed;   /* output: filtered speed, Q15 */
     q15_t c1, c2, c3, c4, c5; /* [slow] the model's constants for the */
                            /* measured Rs, Ls (FOC_LUEN_C1..C5 nominal) */
+    q15_t pll_kp;          /* the PLL's kp mantissa (FOC_LUEN_PLL_KP_SHIFT) */
+    q15_t pll_ki;          /* and ki, Q15, 0..32767: the build's at reset */
 } foc_luenberger_t;
 
 /* Restarts from angle `theta` and speed `speed` with the present current

@@ -73,7 +73,7 @@
  * (foc_var_t, read-only), then FOC_MON_PARAMS parameters from
  * FOC_MON_PARAM_BASE. */
 #define FOC_MON_PARAM_BASE 64u
-#define FOC_MON_PARAMS 8u
+#define FOC_MON_PARAMS 19u
 
 typedef struct {
     foc_link_t link;

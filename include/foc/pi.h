@@ -14,11 +14,16 @@
  * output could not use.
  *
  * Gains: Kp = kp * 2^kp_shift / 32768 (kp Q15, kp_shift 0..15) so gains
- * above 1 are possible; Ki = ki * 2^ki_shift / 32768 and Kc are Q15 (per
- * execution), in [0, 32767].  They are constants of the build (config.h),
- * held apart from the state in a `static const` foc_pi_gains_t: the inline
- * steps then fold them into immediates and constant shifts, and the state
- * in RAM is the integrator and the limits.  Error, output and limits are
+ * above 1 are possible; kp may reach +-65535 (a mantissa up to 2.0, the
+ * monitor's headroom) where kp_shift <= 14: |kp e| < 2^31 and, shifted
+ * right by at least 1, |Kp e| <= 2^30.  Ki = ki * 2^ki_shift / 32768 and
+ * Kc are Q15 (per execution), in [0, 32767].  They are constants of the
+ * build (config.h), held apart from the state in a `static const`
+ * foc_pi_gains_t: the inline steps then fold them into immediates and
+ * constant shifts, and the state in RAM is the integrator and the limits.
+ * Where the monitor may write kp and ki, only those two mantissas live in
+ * RAM (foc_pi_tune_t); the exponents and Kc stay folded.  Error, output
+ * and limits are
  * Q15; the integrator is Q30 (the Q15 value times 2^15, with 15 fraction
  * bits: the Q30 products Ki e and Kc (y - u) add to it exactly).  It is
  * kept within the output range, |I| <= 2^30, so adding a product (< 2^30)
@@ -31,7 +36,7 @@
 #include "foc/q15.h"
 
 typedef struct {
-    q15_t kp;          /* proportional gain mantissa, Q15 */
+    int32_t kp;        /* proportional gain mantissa, Q15, |kp| <= 65535 */
     q15_t ki;          /* integral gain per execution, mantissa, Q15 */
     q15_t kc;          /* anti-windup back-calculation gain, Q15 */
     uint8_t kp_rshift; /* 15 - kp_shift: the product's right shift */
@@ -41,6 +46,32 @@ typedef struct {
 /* A gains initialiser from the mantissas and exponents above. */
 #define FOC_PI_GAINS(kp, kp_shift, ki, ki_shift, kc) \
     { (kp), (ki), (kc), (uint8_t)(15u - (kp_shift)), (uint8_t)(ki_shift) }
+
+/* The mantissas of a PI's gains held in RAM so that the monitor can write
+ * them (docs/monitor.md), at the build's exponents, which stay constants:
+ * kp Q15 in [0, 65535] (0 .. 2 x 2^kp_shift per unit: 2 to 4 times the
+ * build's normalised mantissa; kp_shift <= 14, config.h), ki Q15 in
+ * [0, 32767].  Kc stays the build's. */
+typedef struct {
+    uint16_t kp;
+    q15_t ki;
+} foc_pi_tune_t;
+
+/* The build's mantissas, to initialise a foc_pi_tune_t. */
+static inline foc_pi_tune_t foc_pi_tune_of(const foc_pi_gains_t *build)
+{
+    const foc_pi_tune_t t = { (uint16_t)build->kp, build->ki }; /* 0 <= kp <= 32767 */
+    return t;
+}
+
+/* The gains to step with: the RAM mantissas `t`, the rest the build's
+ * (`build`, a static const: its exponents and Kc fold as before, and the
+ * per-period code only loads two mantissas instead of immediates). */
+static inline foc_pi_gains_t foc_pi_gains_with(const foc_pi_tune_t *t, const foc_pi_gains_t *build)
+{
+    const foc_pi_gains_t g = { (int32_t)t->kp, t->ki, build->kc, build->kp_rshift, build->ki_shift };
+    return g;
+}
 
 typedef struct {
     q31_t integ;   /* integrator, Q30 */
@@ -103,8 +134,8 @@ static inline void foc_pi_preset(foc_pi_q15_t *pi, q15_t y0)
     pi->integ = FOC_PI_Q15_TO_Q30(foc_pi_clamp_out(pi, y0));
 }
 
-/* Kp e, Q15 held in 32 bits (not saturated): the Q30 product shifted
- * right by 15 - kp_shift, rounded; |Kp e| <= 2^30. */
+/* Kp e, Q15 held in 32 bits (not saturated): the product (< 2^31)
+ * shifted right by 15 - kp_shift, rounded; |Kp e| <= 2^30. */
 static inline int32_t foc_pi_kp_term(const foc_pi_gains_t *g, q15_t e)
 {
     /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */

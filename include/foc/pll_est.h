@@ -32,7 +32,7 @@
  * -sgn(w) Edf that drives Edf to zero, leaving d = 0 for any k.  It is
  * bounded by |Eqf| (the correction for k down to 0.5), which also empties
  * it as the speed passes through zero.  Slow (a few Hz), it runs in the
- * slow step (foc_pll_track_flux, FOC_PLL_TRACK_GAIN_Q14 per slow tick),
+ * slow step (foc_pll_track_flux, track_gain per slow tick),
  * which owns flux_track and flux_corr; the step only adds flux_corr.
  *
  * Units: voltages Q15 of the voltage base, EMF Q15 of twice the voltage
@@ -71,6 +71,8 @@ typedef struct {
     q15_t rs;              /* [slow] Rs mantissa (FOC_RS2_SHIFT) */
     int32_t flux_track;    /* [slow] flux tracking, half-scale EMF Q15 << 14, |.| <= |Eqf| << 14 */
     q15_t flux_corr;       /* [slow] flux_track >> 14, added to eq. 2's numerator */
+    q15_t track_gain;      /* [slow] the flux tracking's gain per slow tick, */
+                           /* Q14, 0..16383 (FOC_PLL_TRACK_GAIN_Q14 at reset) */
     uint16_t theta;        /* output angle */
 } foc_pll_t;
 

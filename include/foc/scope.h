@@ -83,11 +83,15 @@ typedef enum {
 } foc_var_t;
 
 typedef struct {
-    const char *name;        /* lower case, as the monitor takes it */
     const char *unit;        /* "" when dimensionless */
     int64_t full_scale_nano; /* physical value of 32768 counts, x 1e9 */
-    uint8_t is_unsigned;     /* 1: counts 0..65535; 0: -32768..32767 */
-} foc_var_info_t;
+} foc_var_scale_t;           /* one per kind of variable (A, V, rpm ...) */
+
+typedef struct {
+    const char *name;    /* lower case, as the monitor takes it */
+    uint8_t scale;       /* its unit and full scale: foc_var_scale() */
+    uint8_t is_unsigned; /* 1: counts 0..65535; 0: -32768..32767 */
+} foc_var_info_t;        /* 8 bytes (a pointer to the scale: 12) */
 
 typedef enum {
     FOC_SCOPE_IDLE = 0,
@@ -193,6 +197,8 @@ int16_t foc_scope_var_now(foc_scope_t *s, foc_var_t var);
 
 /* Variable table: NULL if out of range; the index of `name`, or -1. */
 const foc_var_info_t *foc_var_info(foc_var_t var);
+/* A variable's unit and full scale. */
+const foc_var_scale_t *foc_var_scale(const foc_var_info_t *info);
 int foc_var_find(const char *name);
 
 /* The running part of the tick; use foc_scope_tick. */

@@ -19,6 +19,9 @@ typedef struct {
     int32_t step15;   /* slew per slow tick, Q15.15 (SPEED_RAMP_RPM_PER_S, */
                       /* or TUNING_RAMP_RPM_PER_S in TUNING) */
     foc_pi_q15_t pi;
+    foc_pi_tune_t gains; /* [init] kp (0..65535), ki (0..32767) mantissas */
+                         /* at the build's exponents (FOC_SPEED_KP/KI_SHIFT); */
+                         /* the monitor writes them, a start keeps them */
     uint8_t gain_shift; /* the PI's gains / 2^gain_shift, 0..FOC_SPEED_HUNT_ */
                         /* SHIFT_MAX: one more each time the loop hunts */
     int8_t hunt_side;   /* the q reference's last side beyond half its */

@@ -4,12 +4,14 @@ the boards run), checked against focsim's CSV.
 
     monitor_e2e.py FOCSIM FOC_MONITOR SRC_DIR WORK_DIR
 
-focsim runs monitor_e2e.scn (4 s, no commands) paced to wall time, its
+focsim runs monitor_e2e.scn (5 s, no commands) paced to wall time, its
 monitor on a pseudo-terminal, writing a CSV of every PWM period.  Through
 foc-monitor's command line (the JSON output): identify; status at rest;
 start and speed 1000 rpm; wait for RUN; a gain written while running
 (speed_gain_shift 1, read back) and a write refused while running
-(stop_mode); then a scope capture of speed_est, theta_est, iq_ref and vq,
+(stop_mode); the speed PI's gains read in their units, set to 0 while
+running for 0.4 s and restored; then a scope capture of speed_est,
+theta_est, iq_ref and vq,
 every period, triggered on speed_est rising through 1500 rpm with 25 %
 before it, armed before the tool commands 2000 rpm; CSV and SVG written.
 
@@ -29,6 +31,10 @@ plant-side simulation's record, not the monitor's replies):
     plant's bus);
     status in RUN at the commanded 1000 rpm within 3 %;
   - the gain reads back; the refused write exits non-zero saying why;
+  - speed_kp reads as userparms.h.in's SPEED_KP_A_PER_RPM; with the speed
+    PI's gains at 0 its output (iq_ref) holds still: the CSV shows iq_ref
+    constant over at least 0.3 s of RUN (with the gains it changes every
+    few tens of periods), and the gains read back 0, then restored;
   - the SVG names every channel and its unit.
 """
 import json
@@ -42,6 +48,7 @@ from focsim_csv import decimals, read_csv
 
 failures = []
 ADC_BITS = 10  # userparms.h.in BOARD_ADC_BITS
+SPEED_KP_A_PER_RPM = 3.312e-3  # userparms.h.in
 
 
 def check(cond, msg):
@@ -99,6 +106,16 @@ def main():
                                  capture_output=True, text=True, timeout=30)
         check(refused.returncode == 1 and "refused while the motor is driven" in refused.stderr,
               "stop_mode write refused while running: %r" % refused.stderr.strip())
+        rg, gains = tool(fm, pty, "get speed_kp", "get speed_ki")
+        kp, ki = (gains[0]["result"], gains[1]["result"]) if len(gains) == 2 else (None, None)
+        check(rg.returncode == 0 and kp is not None and abs(kp - SPEED_KP_A_PER_RPM) <=
+              1e-3 * SPEED_KP_A_PER_RPM, "speed_kp %s A/rpm, speed_ki %s A/(rpm s)" % (kp, ki))
+        rz, zeroed = tool(fm, pty, "set speed_kp 0", "set speed_ki 0", "sleep 0.4",
+                          "get speed_kp", "get speed_ki", "set speed_kp %r" % kp,
+                          "set speed_ki %r" % ki, "get speed_kp", "get speed_ki")
+        check(rz.returncode == 0 and len(zeroed) == 9 and zeroed[3]["result"] == 0 and
+              zeroed[4]["result"] == 0 and zeroed[7]["result"] == kp and
+              zeroed[8]["result"] == ki, "speed PI gains 0 while running, read back, restored")
         r2, res2 = tool(fm, pty, "scope ch=speed_est,theta_est,iq_ref,vq decim=1 trig=speed_est "
                         "edge=rising level=1500 pre=25 timeout=3 then=speed,2000 csv=%s svg=%s"
                         % (cap_csv, cap_svg))
@@ -121,6 +138,15 @@ def main():
     check(st1["state"] == "RUN" and abs(st1["speed_est_rpm"] - 1000) < 30 and
           st1["fault_names"] == [], "status in RUN: %.1f rpm" % st1["speed_est_rpm"])
     check(res[7]["result"] == 1 and res[8]["result"] == 1.0, "speed_gain_shift written, reads 1")
+
+    # the speed PI without gains: its output held
+    run_rows = [i for i, s in enumerate(cols["state"]) if s == "RUN"]
+    longest = cur = 1
+    for a, b in zip(run_rows, run_rows[1:]):
+        cur = cur + 1 if b == a + 1 and cols["iq_ref_a"][a] == cols["iq_ref_a"][b] else 1
+        longest = max(longest, cur)
+    check(longest >= 0.3 * ident["pwm_hz"], "iq_ref constant over %d periods (%.3f s) of RUN"
+          % (longest, longest / ident["pwm_hz"]))
 
     # the capture
     with open(cap_csv) as f:

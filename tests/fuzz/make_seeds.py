@@ -99,6 +99,13 @@ MONITOR_SEEDS = {
     + req(0x06) * 10 + req(0x14, 0, 0, 16) + req(0x14, 0xF8, 0, 8),
     "errors": b"\x01" + req(0x7E) + req(0x05) + req(0x09, 64, 9, 0) + req(0x09, 3, 0, 0)
     + req(0x14, 0, 0, 0) + bytes([0x83, 0x06, 0x01, 0x02, 0x05]) + req(0x20) + req(0x21),
+    # the gains (entries 72 .. 82): PI gains at their extremes while
+    # running, an observer's refused, then written stopped and restarted
+    "gains": b"\x01" + req(0x05, 0x00, 0x20) + req(0x02) + req(0x06) * 20
+    + req(0x09, 72, 0xFF, 0x7F) + req(0x09, 73, 0, 0) + req(0x09, 74, 0xFF, 0x7F)
+    + req(0x09, 75, 0, 0x80) + req(0x08, 74) + req(0x07, 82) + req(0x09, 78, 1, 0)
+    + req(0x06) * 10 + req(0x03) + req(0x06) * 20 + req(0x09, 80, 0xFF, 0x3F)
+    + req(0x09, 81, 0, 0) + req(0x09, 79, 0xFF, 0x7F) + req(0x02) + req(0x06) * 20,
     "noise": b"\x00\x03\x06\x11\x22\x00\x00\xff" + bytes(range(1, 60)) + b"\x00\x02\x06\x00",
 }
 

@@ -8,6 +8,7 @@
  * writes refused while the motor is driven, and a scope capture read back
  * in chunks equal to the samples the scope holds.
  */
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
@@ -228,6 +229,156 @@ static void case_table_and_writes(void)
              ctrl.req.commission == 0u, "commissioning refused outside IDLE");
 }
 
+/* var info / read / write of entry i, built at run time. */
+static size_t info(uint8_t i)
+{
+    const uint8_t rq[2] = { FOC_MON_VAR_INFO, i };
+    return request(rq, sizeof rq);
+}
+
+static size_t write16(uint8_t i, uint16_t v)
+{
+    const uint8_t rq[4] = { FOC_MON_VAR_WRITE, i, (uint8_t)(v & 0xFFu), (uint8_t)(v >> 8) };
+    return request(rq, sizeof rq);
+}
+
+static int32_t read16(uint8_t i)
+{
+    const uint8_t rq[2] = { FOC_MON_VAR_READ, i };
+    return (request(rq, sizeof rq) == 5 && reply[1] == 0) ? (int32_t)u16(3) : -1;
+}
+
+/* The parameter named `name`: its index, and its info (flags, max, full
+ * scale); 0 if none. */
+typedef struct {
+    uint8_t index, flags;
+    uint16_t max;
+    double fs; /* physical value of 32768 counts */
+} param_info_t;
+
+static param_info_t find_param(const char *name)
+{
+    param_info_t p = { 0, 0, 0, 0.0 };
+    for (uint8_t i = FOC_MON_PARAM_BASE; i < FOC_MON_PARAM_BASE + FOC_MON_PARAMS; i++) {
+        if (info(i) > 16 && reply[1] == 0 && strcmp((const char *)&reply[15], name) == 0) {
+            int64_t fs = 0;
+            for (int k = 7; k >= 0; k--) {
+                fs = fs * 256 + reply[7 + k];
+            }
+            p.index = i;
+            p.flags = reply[4];
+            p.max = u16(5);
+            p.fs = (double)fs * 1e-9;
+        }
+    }
+    return p;
+}
+
+/* A gain read through the monitor in its unit. */
+static double gain_value(param_info_t p)
+{
+    return (double)read16(p.index) * p.fs / 32768.0;
+}
+
+static void case_gains(void)
+{
+    setup();
+    /* Every gain: writable, its range the mantissa's (a proportional
+     * gain's up to 2.0: 65535; an integral gain's, an observer's: Q15 or
+     * less), and the build's value reads back in its unit as userparms.h
+     * gives it (within the mantissa's resolution, 2^-14 of full scale). */
+    static const char *const pi_gains[] = { "speed_kp", "speed_ki", "current_kp", "current_ki",
+                                            "fw_kp", "fw_ki" };
+    static const char *const obs_gains[] = { "luen_pll_kp", "luen_pll_ki", "pll_track_gain",
+                                             "flux_corr_min", "flux_corr_speed" };
+    for (size_t k = 0; k < sizeof pi_gains / sizeof pi_gains[0]; k++) {
+        const param_info_t p = find_param(pi_gains[k]);
+        const uint16_t max = (k % 2u == 0u) ? 65535u : 32767u; /* kp, ki */
+        TK_CHECK(p.index != 0 && p.flags == 3u && p.max == max && p.fs > 0.0,
+                 "%s: index %u, writable while running, max %u", pi_gains[k], p.index, max);
+    }
+    for (size_t k = 0; k < sizeof obs_gains / sizeof obs_gains[0]; k++) {
+        const param_info_t p = find_param(obs_gains[k]);
+        TK_CHECK(p.index != 0 && p.flags == 1u && p.max <= 32767u && p.fs > 0.0,
+                 "%s: index %u, writable only stopped", obs_gains[k], p.index);
+    }
+    const param_info_t kp = find_param("speed_kp");
+    const param_info_t ki = find_param("speed_ki");
+    const param_info_t ckp = find_param("current_kp");
+    const param_info_t fkp = find_param("fw_kp");
+    const param_info_t fmin = find_param("flux_corr_min");
+    TK_CHECK(fabs(gain_value(kp) - SPEED_KP_A_PER_RPM) <= kp.fs / 16384.0, "speed_kp %g A/rpm",
+             gain_value(kp));
+    TK_CHECK(fabs(gain_value(ki) - SPEED_KI_A_PER_RPM_S) <= ki.fs / 16384.0,
+             "speed_ki %g A/(rpm s)", gain_value(ki));
+    TK_CHECK(fabs(gain_value(ckp) - CURRENT_KP_V_PER_A) <= ckp.fs / 16384.0, "current_kp %g V/A",
+             gain_value(ckp));
+    TK_CHECK(fabs(gain_value(fkp) - FW_VOLTAGE_KP_A_PER_V) <= fkp.fs / 16384.0, "fw_kp %g A/V",
+             gain_value(fkp));
+    TK_CHECK(fabs(gain_value(fmin) - FLUX_CORR_MIN_RAD_S) <= fmin.fs / 16384.0,
+             "flux_corr_min %g rad/s", gain_value(fmin));
+
+    /* A speed gain while running: range-checked, written, read back, and
+     * the loop uses it: with kp = ki = 0 the output is the integrator's
+     * preset whatever the error; with the build's gains it is not; with
+     * kp at its largest, twice the full scale, the step is kp e exactly. */
+    ctrl.state = FOC_STATE_RUN;
+    const uint16_t kp0 = (uint16_t)read16(kp.index);
+    const uint16_t ki0 = (uint16_t)read16(ki.index);
+    TK_CHECK(write16(ki.index, 32768u) == 2 && reply[1] == FOC_MON_E_RANGE &&
+             ctrl.speed_ctrl.gains.ki == (q15_t)ki0, "speed_ki 32768 refused");
+    foc_speed_ctrl_t sc = ctrl.speed_ctrl;
+    foc_sc_preset(&sc, 1000, 2000);
+    sc.target = 1000;
+    const q15_t iq_build = foc_sc_step(&sc, 700, 0);
+    TK_CHECK(write16(kp.index, 0u) == 2 && reply[1] == 0 && write16(ki.index, 0u) == 2 &&
+             reply[1] == 0 && read16(kp.index) == 0 && read16(ki.index) == 0,
+             "speed_kp, speed_ki written while running, read back 0");
+    sc = ctrl.speed_ctrl;
+    foc_sc_preset(&sc, 1000, 2000);
+    sc.target = 1000;
+    const q15_t iq_zero = foc_sc_step(&sc, 700, 0);
+    TK_CHECK(iq_build > 2000 && iq_zero == 2000, "speed PI output %d with the build's gains, %d "
+             "with none", iq_build, iq_zero);
+    TK_CHECK(write16(kp.index, 65535u) == 2 && reply[1] == 0 && read16(kp.index) == 65535,
+             "speed_kp 65535 written");
+    sc = ctrl.speed_ctrl;
+    foc_sc_preset(&sc, 0, 0);
+    sc.target = 0;
+    const q15_t e = -8;
+    const q15_t iq_max = foc_sc_step(&sc, (q15_t)-e, 0); /* error e, no integral */
+    const double want = floor(65535.0 * ldexp(1.0, FOC_SPEED_KP_SHIFT) * e / 32768.0 + 0.5);
+    TK_CHECK(iq_max == (q15_t)want, "speed PI at kp 65535: %d, want %.0f", iq_max, want);
+    TK_CHECK(write16(kp.index, kp0) == 2 && reply[1] == 0 && write16(ki.index, ki0) == 2 &&
+             reply[1] == 0 && ctrl.speed_ctrl.gains.kp == kp0 && ctrl.speed_ctrl.gains.ki == ki0,
+             "speed gains restored");
+    /* the current PI's: written while running, used by the inline step */
+    TK_CHECK(write16(ckp.index, 1234u) == 2 && reply[1] == 0 &&
+             ctrl.current_ctrl.gains.kp == 1234, "current_kp written while running");
+
+    /* An observer's gain: refused while running, written stopped, and the
+     * estimator takes it at its next restart. */
+    const param_info_t lkp = find_param("luen_pll_kp");
+    const param_info_t track = find_param("pll_track_gain");
+    TK_CHECK(write16(lkp.index, 1000u) == 2 && reply[1] == FOC_MON_E_RUNNING &&
+             ctrl.est.gains.luen_kp != 1000, "luen_pll_kp refused while running");
+    ctrl.state = FOC_STATE_IDLE;
+    TK_CHECK(write16(track.index, (uint16_t)(track.max + 1u)) == 2 && reply[1] == FOC_MON_E_RANGE,
+             "pll_track_gain beyond %u refused", track.max);
+    TK_CHECK(write16(lkp.index, 1000u) == 2 && reply[1] == 0 && write16(track.index, 99u) == 2 &&
+             reply[1] == 0 && write16(fmin.index, 777u) == 2 && reply[1] == 0,
+             "observer gains written in IDLE");
+    TK_CHECK(foc_est_select(&ctrl.est, FOC_EST_LUENBERGER) == 0, "luenberger built");
+    foc_est_reset(&ctrl.est, 0, 0);
+    TK_CHECK(ctrl.est.u.luenberger.pll_kp == 1000, "the observer runs with it after a restart");
+    TK_CHECK(foc_est_select(&ctrl.est, FOC_EST_PLL) == 0, "pll built");
+    foc_est_reset(&ctrl.est, 0, 0);
+    TK_CHECK(ctrl.est.u.pll.track_gain == 99, "the PLL too");
+    TK_CHECK(foc_est_select(&ctrl.est, FOC_EST_FLUX) == 0, "flux built");
+    foc_est_reset(&ctrl.est, 0, 0);
+    TK_CHECK(ctrl.est.u.flux.corr_min == 777, "the flux estimator too");
+}
+
 static void case_scope_capture(void)
 {
     setup();
@@ -285,5 +436,5 @@ static void case_random_bytes_never_crash(void)
 
 TK_CASES(TK_CASE(case_crc_check_value), TK_CASE(case_start_stop_ack_speed),
          TK_CASE(case_identify_and_status), TK_CASE(case_malformed_dropped),
-         TK_CASE(case_table_and_writes), TK_CASE(case_scope_capture),
+         TK_CASE(case_table_and_writes), TK_CASE(case_gains), TK_CASE(case_scope_capture),
          TK_CASE(case_random_bytes_never_crash))

@@ -299,9 +299,9 @@ static void case_channel_table(void)
     };
     for (int v = 0; v < (int)FOC_VAR_COUNT; v++) {
         const foc_var_info_t *info = foc_var_info((foc_var_t)v);
-        TK_CHECK(info != NULL && info->name != NULL && info->unit != NULL, "info %d", v);
+        TK_CHECK(info != NULL && info->name != NULL && foc_var_scale(info)->unit != NULL, "info %d", v);
         TK_CHECK(foc_var_find(info->name) == v, "find %s", info->name);
-        TK_CHECK(info->full_scale_nano > 0, "%s full scale", info->name);
+        TK_CHECK(foc_var_scale(info)->full_scale_nano > 0, "%s full scale", info->name);
         one_channel((foc_var_t)v);
         (void)foc_scope_arm(&scope);
         foc_scope_tick(&scope); /* 64 frames: the first is frame 0 */
@@ -320,15 +320,15 @@ static void case_channel_table(void)
     TK_CHECK(foc_var_find("nope") == -1 && foc_var_find("") == -1 && foc_var_find("i") == -1,
              "unknown names");
     /* the full scales are the per-unit bases of config.h */
-    TK_CHECK(foc_var_info(FOC_VAR_IQ)->full_scale_nano == (int64_t)(FOC_I_BASE_A * 1e9 + 0.5),
+    TK_CHECK(foc_var_scale(foc_var_info(FOC_VAR_IQ))->full_scale_nano == (int64_t)(FOC_I_BASE_A * 1e9 + 0.5),
              "current base");
-    TK_CHECK(foc_var_info(FOC_VAR_VQ)->full_scale_nano == (int64_t)(FOC_V_BASE_V * 1e9 + 0.5),
+    TK_CHECK(foc_var_scale(foc_var_info(FOC_VAR_VQ))->full_scale_nano == (int64_t)(FOC_V_BASE_V * 1e9 + 0.5),
              "voltage base");
-    TK_CHECK(foc_var_info(FOC_VAR_SPEED)->full_scale_nano ==
+    TK_CHECK(foc_var_scale(foc_var_info(FOC_VAR_SPEED))->full_scale_nano ==
                  (int64_t)(SPEED_BASE_RPM * 1e9 + 0.5), "speed base");
-    TK_CHECK(foc_var_info(FOC_VAR_THETA)->full_scale_nano == 180000000000LL &&
+    TK_CHECK(foc_var_scale(foc_var_info(FOC_VAR_THETA))->full_scale_nano == 180000000000LL &&
                  foc_var_info(FOC_VAR_THETA)->is_unsigned, "angle: 32768 = 180 deg");
-    TK_CHECK(foc_var_info(FOC_VAR_STATE)->full_scale_nano == 32768000000000LL,
+    TK_CHECK(foc_var_scale(foc_var_info(FOC_VAR_STATE))->full_scale_nano == 32768000000000LL,
              "state: value = counts");
 }
 
