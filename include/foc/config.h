@@ -287,6 +287,12 @@ FOC_PARAM_POSITIVE(UNDERVOLTAGE_V, 4000.0);
  * parameters, Q14, within [0.5, 2). */
 #define FOC_RATIO_ONE_Q14 ((q15_t)16384)
 #define FOC_RATIO_MIN_Q14 ((q15_t)8192)
+/* ALIGN's vd and id filtered for the Rs measure over the alignment's last
+ * quarter (from the tick FOC_ALIGN_AVG_FROM; the rotor turned to the start
+ * angle at the second half's beginning), a time constant of a third of
+ * it. */
+#define FOC_ALIGN_AVG_FROM ((uint16_t)(FOC_ALIGN_HALF_TICKS + FOC_ALIGN_HALF_TICKS / 2u))
+#define FOC_ALIGN_AVG_K Q15(FOC_SLOW_TS_S / (STARTUP_ALIGN_TIME_S / 12.0 + FOC_SLOW_TS_S))
 #define FOC_LS_DT_PU (MOTOR_LQ_H * FOC_I_BASE_A / (FOC_V_BASE_V * FOC_TS_S))
 #define FOC_KFI_PU (FOC_FLUX_WB * FOC_WE_BASE_RAD_S / FOC_V_BASE_V)
 #define FOC_INV_KFI_PU (1.0 / FOC_KFI_PU)
@@ -713,6 +719,10 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
  * CATCH counts from 1 the slow ticks its hold current (-FOC_LPROBE_DI on
  * d, 0 on q) has been within FOC_LPROBE_DI / 8 on both axes. */
 #define FOC_LPROBE_GO ((uint8_t)5u)
+/* ALIGN's probes, averaged: one dip of a quarter of the alignment current
+ * is 43 codes on the Hurst075's 10-bit ADC, and 2 codes of noise left its
+ * Ld 7 % RMS off (12 seeds of the realistic plant). */
+#define FOC_LPROBE_REPEAT 4u
 /* CATCH probes a rotor turning at most 0.5 rad (electrical) per FOC_LPROBE_N
  * periods: the deviation's magnitude is then within 1 % of dV t / L (the
  * held voltages' own error, which rotation turns into current, stays small

@@ -176,6 +176,8 @@ typedef struct {
                             /* FOC_LPROBE_DONE once over, 0 when not asked; */
                             /* the voltage it steps from: the d PI's */
                             /* integrator, left as it was */
+    uint8_t lprobe_count;   /* [slow] ALIGN's probes so far */
+    int32_t lprobe_dips;    /* [slow] the sum of their dips, Q15 */
     foc_protection_t protection; /* [slow] */
 
     foc_current_sense_t current_sense; /* [slow] starts a calibration in */
@@ -197,6 +199,8 @@ typedef struct {
                                        /* turns at before it runs) */
     foc_speed_stats_t speed_stats;     /* [slow] */
     foc_rs_adapt_t rs_adapt;           /* [slow] online Rs (rs_adapt.h) */
+    foc_lpf_q15_t align_vd;            /* [slow] ALIGN's vd and id, */
+    foc_lpf_q15_t align_id;            /* filtered for the Rs measure */
     foc_supervision_t sup;             /* [slow] */
     foc_comm_t comm;                   /* commissioning: [slow] its */
                                        /* sequence, [fast] its sums */
