@@ -681,12 +681,12 @@ static q15_t measured_ratio(int32_t ratio_q14)
  * Hurst075's realistic plant, 7 % once in 12 seeds). */
 static void identify_rs(foc_ctrl_t *c)
 {
-    const q15_t id = foc_lpf_out(&c->align_id);
+    const q15_t id = foc_lpf_out(&c->rs_adapt.id);
     if (id < FOC_ALIGN_CURRENT / 2) {
         return; /* not held: no measure */
     }
     const int32_t drop = (int32_t)foc_mul_q15_shift(id, FOC_RS_MANT, FOC_RS_SHIFT); /* Rs id */
-    const int32_t ratio = ((int32_t)foc_lpf_out(&c->align_vd) * 16384) / ((drop > 0) ? drop : 1);
+    const int32_t ratio = ((int32_t)foc_lpf_out(&c->rs_adapt.vd) * 16384) / ((drop > 0) ? drop : 1);
     foc_est_set_rs(&c->est, measured_ratio(ratio));
 }
 
@@ -842,18 +842,19 @@ static void hand_over(foc_ctrl_t *c, uint16_t theta_from)
 
 /* ALIGN's slow tick: vd and id filtered over its last quarter for
  * identify_rs, once the rotor has settled on the start angle (16-bit
- * reads of what the fast step writes). */
+ * reads of what the fast step writes), in rs_adapt's filters: ALIGN and
+ * RUN never overlap. */
 static void align_average(foc_ctrl_t *c)
 {
     if (c->startup.ticks < FOC_ALIGN_AVG_FROM) {
         return;
     }
     if (c->startup.ticks == FOC_ALIGN_AVG_FROM) {
-        foc_lpf_init(&c->align_vd, c->v_dq.d);
-        foc_lpf_init(&c->align_id, c->i_dq.d);
+        foc_lpf_init(&c->rs_adapt.vd, c->v_dq.d);
+        foc_lpf_init(&c->rs_adapt.id, c->i_dq.d);
     } else {
-        (void)foc_lpf_step(&c->align_vd, c->v_dq.d, FOC_ALIGN_AVG_K);
-        (void)foc_lpf_step(&c->align_id, c->i_dq.d, FOC_ALIGN_AVG_K);
+        (void)foc_lpf_step(&c->rs_adapt.vd, c->v_dq.d, FOC_ALIGN_AVG_K);
+        (void)foc_lpf_step(&c->rs_adapt.id, c->i_dq.d, FOC_ALIGN_AVG_K);
     }
 }
 

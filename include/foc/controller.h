@@ -198,9 +198,8 @@ typedef struct {
                                        /* sets the speed CATCH's probe */
                                        /* turns at before it runs) */
     foc_speed_stats_t speed_stats;     /* [slow] */
-    foc_rs_adapt_t rs_adapt;           /* [slow] online Rs (rs_adapt.h) */
-    foc_lpf_q15_t align_vd;            /* [slow] ALIGN's vd and id, */
-    foc_lpf_q15_t align_id;            /* filtered for the Rs measure */
+    foc_rs_adapt_t rs_adapt;           /* [slow] online Rs (rs_adapt.h); */
+                                       /* its vd, id also ALIGN's Rs measure */
     foc_supervision_t sup;             /* [slow] */
     foc_comm_t comm;                   /* commissioning: [slow] its */
                                        /* sequence, [fast] its sums */

@@ -36,8 +36,8 @@
 #include "foc/transforms.h"
 
 typedef struct {
-    foc_lpf_q15_t vd, vq; /* filtered voltage command, Q15 */
-    foc_lpf_q15_t id, iq; /* filtered current, Q15 */
+    foc_lpf_q15_t vd, vq; /* filtered voltage command, Q15 (vd, id: */
+    foc_lpf_q15_t id, iq; /* also ALIGN's, controller.c align_average) */
     foc_lpf_q15_t speed;  /* filtered speed estimate, Q15 */
     q15_t rs_min_q14;     /* the range around the alignment's Rs, Q14 */
     q15_t rs_max_q14;
