@@ -64,7 +64,8 @@ typedef struct {
 #define PI_GAIN T_U16, F_WRITABLE | F_RUNNING
 #define OBS_GAIN T_U16, F_WRITABLE
 
-static const param_t params[FOC_MON_PARAMS] = {
+#define COMMON_PARAMS 14u
+static const param_t params[COMMON_PARAMS] = {
     { "speed_gain_shift\0", COUNTS, FOC_SPEED_HUNT_SHIFT_MAX, AT(speed_ctrl.gain_shift), T_U8,
       F_WRITABLE | F_RUNNING },
     { "min_speed\0" "rpm", FS(SPEED_BASE_RPM), 32767u, AT(opt.min_speed), T_I16, F_WRITABLE },
@@ -96,6 +97,11 @@ static const param_t params[FOC_MON_PARAMS] = {
     /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     { "fw_ki\0" "A/(V s)", GAIN_FS(0u, FOC_I_BASE_A / (FOC_V_BASE_V * FOC_SLOW_TS_S)), 32767u,
       AT(fw.gains.ki), PI_GAIN },
+};
+
+/* The estimators' gains: a firmware built for one estimator carries its
+ * own only (param_at; focsim all of them, in this order). */
+static const param_t luen_params[2] = {
     /* the Luenberger observer's PLL: Q15 speed per Q15 sin(angle error) */
     /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     { "luen_pll_kp\0" "rpm/rad", GAIN_FS(FOC_LUEN_PLL_KP_SHIFT, SPEED_BASE_RPM), 32767u,
@@ -103,15 +109,46 @@ static const param_t params[FOC_MON_PARAMS] = {
     /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     { "luen_pll_ki\0" "rpm/(rad s)", GAIN_FS(0u, SPEED_BASE_RPM / FOC_TS_S), 32767u,
       AT(est.gains.luen_ki), OBS_GAIN },
+};
+static const param_t pll_params[1] = {
     /* the PLL estimator's flux tracking: Q14 per slow tick (< 2^14) */
     { "pll_track_gain\0" "1/s", FS(2.0 / FOC_SLOW_TS_S), 16383u, AT(est.gains.pll_track),
       OBS_GAIN },
+};
+static const param_t flux_params[2] = {
     /* the flux estimator's correction: (k_min + c |w_e|) Ts, Q15 */
     { "flux_corr_min\0" "rad/s", FS(1.0 / FOC_TS_S), 16384u, AT(est.gains.flux_corr_min),
       OBS_GAIN },
     { "flux_corr_speed\0", FS(1.0 / (FOC_WE_BASE_RAD_S * FOC_TS_S)), 32767u,
       AT(est.gains.flux_corr_speed), OBS_GAIN },
 };
+
+/* How many of each table the build has, and in all. */
+/* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+#define LUEN_PARAMS (FOC_EST_BUILT(FOC_EST_LUENBERGER) ? 2u : 0u)
+/* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+#define PLL_PARAMS (FOC_EST_BUILT(FOC_EST_PLL) ? 1u : 0u)
+/* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+#define FLUX_PARAMS (FOC_EST_BUILT(FOC_EST_FLUX) ? 2u : 0u)
+#define PARAMS_BUILT ((uint8_t)(COMMON_PARAMS + LUEN_PARAMS + PLL_PARAMS + FLUX_PARAMS))
+
+/* Parameter k of the build's table (k < PARAMS_BUILT): the common ones,
+ * then the built estimators' (a table not built is never referenced, so
+ * the linker drops it). */
+static const param_t *param_at(uint8_t k)
+{
+    const param_t *p;
+    if (k < COMMON_PARAMS) {
+        p = &params[k];
+    } else if (k < (COMMON_PARAMS + LUEN_PARAMS)) {
+        p = &luen_params[k - COMMON_PARAMS];
+    } else if (k < (COMMON_PARAMS + LUEN_PARAMS + PLL_PARAMS)) {
+        p = &pll_params[k - COMMON_PARAMS - LUEN_PARAMS];
+    } else {
+        p = &flux_params[k - COMMON_PARAMS - LUEN_PARAMS - PLL_PARAMS];
+    }
+    return p;
+}
 
 /* The parameter's field: its byte, or the first of its 16-bit integer's
  * two, which are copied through a union (its bytes are the integer's
@@ -129,7 +166,7 @@ typedef union {
 
 static uint16_t param_get(foc_ctrl_t *c, uint8_t k)
 {
-    const param_t *p = &params[k];
+    const param_t *p = param_at(k);
     uint16_t v;
     if (k == P_STOP_MODE) {
         v = (uint16_t)c->opt.stop_mode;
@@ -150,7 +187,7 @@ static const foc_stop_mode_t stop_modes[3] = { STOP_MODE_RAMP, STOP_MODE_COAST, 
 /* `v` is within the parameter's range. */
 static void param_set(foc_ctrl_t *c, uint8_t k, uint16_t v)
 {
-    const param_t *p = &params[k];
+    const param_t *p = param_at(k);
     if (k == P_STOP_MODE) {
         c->opt.stop_mode = stop_modes[v];
     } else if (p->type == T_U8) {
@@ -238,7 +275,7 @@ static void identify(out_t *o)
     put8(o, (uint8_t)CONTROL_SLOW_DIVIDER);
     put8(o, (uint8_t)MOTOR_POLE_PAIRS);
     put8(o, (uint8_t)FOC_VAR_COUNT);
-    put8(o, (uint8_t)FOC_MON_PARAMS);
+    put8(o, PARAMS_BUILT);
     put32(o, MICRO(FOC_I_BASE_A));
     put32(o, MICRO(FOC_V_BASE_V));
     put32(o, MICRO(FOC_VDC_BASE_V));
@@ -283,8 +320,8 @@ static uint8_t var_info(uint8_t i, out_t *o)
         q.fs_hi = (uint32_t)(fs >> 32u);
         q.max = (v->is_unsigned != 0u) ? 65535u : 32767u;
         q.type = (v->is_unsigned != 0u) ? T_U16 : T_I16;
-    } else if (i >= FOC_MON_PARAM_BASE && i < (uint8_t)(FOC_MON_PARAM_BASE + FOC_MON_PARAMS)) {
-        q = params[i - FOC_MON_PARAM_BASE];
+    } else if (i >= FOC_MON_PARAM_BASE && i < (uint8_t)(FOC_MON_PARAM_BASE + PARAMS_BUILT)) {
+        q = *param_at((uint8_t)(i - FOC_MON_PARAM_BASE));
     } else {
         e = FOC_MON_E_RANGE;
     }
@@ -311,7 +348,7 @@ static uint8_t var_read(foc_mon_t *m, uint8_t i, out_t *o)
             put8(o, i);
             put16(o, (uint16_t)foc_scope_var_now(m->scope, (foc_var_t)i));
         }
-    } else if (i >= FOC_MON_PARAM_BASE && i < (uint8_t)(FOC_MON_PARAM_BASE + FOC_MON_PARAMS)) {
+    } else if (i >= FOC_MON_PARAM_BASE && i < (uint8_t)(FOC_MON_PARAM_BASE + PARAMS_BUILT)) {
         put8(o, i);
         put16(o, param_get(m->ctrl, (uint8_t)(i - FOC_MON_PARAM_BASE)));
     } else {
@@ -325,11 +362,12 @@ static uint8_t var_write(foc_mon_t *m, uint8_t i, uint16_t v)
     uint8_t e = FOC_MON_OK;
     if (i < (uint8_t)FOC_VAR_COUNT) {
         e = FOC_MON_E_READONLY;
-    } else if (i >= FOC_MON_PARAM_BASE && i < (uint8_t)(FOC_MON_PARAM_BASE + FOC_MON_PARAMS)) {
+    } else if (i >= FOC_MON_PARAM_BASE && i < (uint8_t)(FOC_MON_PARAM_BASE + PARAMS_BUILT)) {
         const uint8_t k = (uint8_t)(i - FOC_MON_PARAM_BASE);
-        if (v > params[k].max) {
+        const param_t *p = param_at(k);
+        if (v > p->max) {
             e = FOC_MON_E_RANGE;
-        } else if ((params[k].flags & F_RUNNING) == 0u && stopped(m->ctrl) == 0u) {
+        } else if ((p->flags & F_RUNNING) == 0u && stopped(m->ctrl) == 0u) {
             e = FOC_MON_E_RUNNING;
         } else {
             param_set(m->ctrl, k, v);

@@ -70,8 +70,9 @@
 #define FOC_MON_E_NODATA 8u   /* no finished capture */
 
 /* The table: entries 0 .. FOC_VAR_COUNT-1 are the scope's live variables
- * (foc_var_t, read-only), then FOC_MON_PARAMS parameters from
- * FOC_MON_PARAM_BASE. */
+ * (foc_var_t, read-only), then the parameters from FOC_MON_PARAM_BASE:
+ * FOC_MON_PARAMS with every estimator built (focsim), fewer in a firmware
+ * built for one (identify says how many). */
 #define FOC_MON_PARAM_BASE 64u
 #define FOC_MON_PARAMS 19u
 
