@@ -1122,7 +1122,7 @@ static void run_tick(foc_ctrl_t *c)
     stall_check(c, reversal);
     /* the winding warms: Rs follows (not through the hand-over's fade nor
      * a reversal's ramp down) */
-    if (c->opt.rs_adapt != 0u && c->state == FOC_STATE_RUN && c->est.use_sensor == 0u &&
+    if (FOC_RS_ADAPT_BUILT && c->opt.rs_adapt != 0u && c->state == FOC_STATE_RUN && c->est.use_sensor == 0u &&
         reversal == 0u && c->handover_id == 0) {
         const q15_t rs = foc_rs_adapt_tick(&c->rs_adapt, c->v_dq, c->i_dq, c->est.speed,
                                            c->est.rs_ratio, c->est.ls_ratio);

@@ -12,10 +12,11 @@ FOC_STATIC_ASSERT(FOC_RSA_STEP_DIV >= 1 && FOC_RSA_STEP_DIV < 16384,
 
 void foc_rs_adapt_reset(foc_rs_adapt_t *a, foc_dq_t v, foc_dq_t i, q15_t speed, q15_t rs_q14)
 {
+    const int32_t r = rs_q14;
     /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-    a->rs_min_q14 = (q15_t)(rs_q14 - (rs_q14 >> 3));
+    a->rs_min_q14 = (q15_t)(r - (r >> 3));
     /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-    const int32_t hi = (int32_t)rs_q14 + (rs_q14 >> 1);
+    const int32_t hi = r + (r >> 1);
     a->rs_max_q14 = (hi > Q15_MAX) ? Q15_MAX : (q15_t)hi;
     foc_lpf_init(&a->vd, v.d);
     foc_lpf_init(&a->vq, v.q);

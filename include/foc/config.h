@@ -1073,6 +1073,14 @@ FOC_STATIC_ASSERT(STOP_SPEED_RPM >= 0.0 && STOP_SPEED_RPM < SPEED_BASE_RPM,
 #ifndef RS_ADAPTATION
 #define RS_ADAPTATION 0
 #endif
+/* Its code is in the firmware only where RS_ADAPTATION turns it on (590
+ * bytes on Cortex-M3), and in builds of every estimator (focsim), where
+ * the option foc_options_t.rs_adapt chooses. */
+#ifdef FOC_ALL_ESTIMATORS
+#define FOC_RS_ADAPT_BUILT 1
+#else
+#define FOC_RS_ADAPT_BUILT (RS_ADAPTATION != 0)
+#endif
 /* Sample to voltage: the voltage computed from the sample of period k is
  * centred SAMPLE_DELAY_PERIODS periods after that sample.  1.5 where the
  * port samples at the start of a period and the duties load at its end
