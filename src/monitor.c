@@ -42,11 +42,12 @@ FOC_STATIC_ASSERT((4u + (2u * FOC_MON_SCOPE_CHUNK) + 2u) <= FOC_LINK_TX_MAX,
 typedef struct {
     const char *name_unit;     /* "name\0" "unit" */
     uint32_t fs_lo, fs_hi;     /* physical value of 32768 counts, x 1e9 */
-    uint16_t max;              /* minimum 0 */
+    uint16_t max;              /* the largest value */
     uint16_t field;            /* offsetof(foc_ctrl_t, the field): T_U8 a */
                                /* uint8_t, T_I16 and T_U16 16-bit integers */
     uint8_t type;
     uint8_t flags;
+    uint16_t min;              /* the least value (in the padding) */
 } param_t;
 
 #define AT(field) (uint16_t)offsetof(foc_ctrl_t, field)
@@ -61,20 +62,20 @@ typedef struct {
  * integral part, so a new ki is bumpless and a new kp steps the output by
  * the change times the present error.  An observer's only stopped (the
  * estimator takes it at its next restart). */
-#define PI_GAIN T_U16, F_WRITABLE | F_RUNNING
-#define OBS_GAIN T_U16, F_WRITABLE
+#define PI_GAIN T_U16, F_WRITABLE | F_RUNNING, 0u
+#define OBS_GAIN T_U16, F_WRITABLE, 0u
 
 #define COMMON_PARAMS 14u
 static const param_t params[COMMON_PARAMS] = {
     { "speed_gain_shift\0", COUNTS, FOC_SPEED_HUNT_SHIFT_MAX, AT(speed_ctrl.gain_shift), T_U8,
-      F_WRITABLE | F_RUNNING },
-    { "min_speed\0" "rpm", FS(SPEED_BASE_RPM), 32767u, AT(opt.min_speed), T_I16, F_WRITABLE },
-    { "stop_mode\0", COUNTS, 2u, AT(opt.stop_mode), T_U8, F_WRITABLE }, /* P_STOP_MODE */
-    { "fault_brake\0", COUNTS, 1u, AT(opt.fault_brake), T_U8, F_WRITABLE },
-    { "deadtime_comp\0", COUNTS, 1u, AT(opt.deadtime_comp), T_U8, F_WRITABLE },
-    { "brake_resistor\0", COUNTS, 1u, AT(protection.resistor_enabled), T_U8, F_WRITABLE },
-    { "open_loop_only\0", COUNTS, 1u, AT(opt.open_loop_only), T_U8, F_WRITABLE },
-    { "tuning\0", COUNTS, 1u, AT(opt.tuning), T_U8, F_WRITABLE },
+      F_WRITABLE | F_RUNNING, 0u },
+    { "min_speed\0" "rpm", FS(SPEED_BASE_RPM), 32767u, AT(opt.min_speed), T_I16, F_WRITABLE, 0u },
+    { "stop_mode\0", COUNTS, 2u, AT(opt.stop_mode), T_U8, F_WRITABLE, 0u }, /* P_STOP_MODE */
+    { "fault_brake\0", COUNTS, 1u, AT(opt.fault_brake), T_U8, F_WRITABLE, 0u },
+    { "deadtime_comp\0", COUNTS, 1u, AT(opt.deadtime_comp), T_U8, F_WRITABLE, 0u },
+    { "brake_resistor\0", COUNTS, 1u, AT(protection.resistor_enabled), T_U8, F_WRITABLE, 0u },
+    { "open_loop_only\0", COUNTS, 1u, AT(opt.open_loop_only), T_U8, F_WRITABLE, 0u },
+    { "tuning\0", COUNTS, 1u, AT(opt.tuning), T_U8, F_WRITABLE, 0u },
     /* the speed PI: Q15 current per Q15 speed, and per slow tick */
     /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     { "speed_kp\0" "A/rpm", GAIN_FS(FOC_SPEED_KP_SHIFT, FOC_I_BASE_A / SPEED_BASE_RPM), 65535u,
@@ -85,8 +86,10 @@ static const param_t params[COMMON_PARAMS] = {
       AT(speed_ctrl.gains.ki), PI_GAIN },
     /* the current PIs (both axes): Q15 voltage per Q15 current, per period */
     /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    /* at least Kref: the reference path's gain Kp - Kref stays >= 0 */
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     { "current_kp\0" "V/A", GAIN_FS(FOC_CURRENT_KP_SHIFT, FOC_V_BASE_V / FOC_I_BASE_A), 65535u,
-      AT(current_ctrl.gains.kp), PI_GAIN },
+      AT(current_ctrl.gains.kp), T_U16, F_WRITABLE | F_RUNNING, FOC_CURRENT_KP_MIN_MANT },
     /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     { "current_ki\0" "V/(A s)", GAIN_FS(0u, FOC_V_BASE_V / (FOC_I_BASE_A * FOC_TS_S)), 32767u,
       AT(current_ctrl.gains.ki), PI_GAIN },
@@ -308,7 +311,7 @@ static void status(const foc_mon_t *m, out_t *o)
 static uint8_t var_info(uint8_t i, out_t *o)
 {
     uint8_t e = FOC_MON_OK;
-    param_t q = { NULL, 0u, 0u, 0u, 0u, 0u, 0u };
+    param_t q = { NULL, 0u, 0u, 0u, 0u, 0u, 0u, 0u };
     const char *unit = NULL; /* NULL: after the name, in name_unit */
     if (i < (uint8_t)FOC_VAR_COUNT) {
         const foc_var_info_t *v = foc_var_info((foc_var_t)i);
@@ -365,7 +368,7 @@ static uint8_t var_write(foc_mon_t *m, uint8_t i, uint16_t v)
     } else if (i >= FOC_MON_PARAM_BASE && i < (uint8_t)(FOC_MON_PARAM_BASE + PARAMS_BUILT)) {
         const uint8_t k = (uint8_t)(i - FOC_MON_PARAM_BASE);
         const param_t *p = param_at(k);
-        if (v > p->max) {
+        if (v > p->max || v < p->min) {
             e = FOC_MON_E_RANGE;
         } else if ((p->flags & F_RUNNING) == 0u && stopped(m->ctrl) == 0u) {
             e = FOC_MON_E_RUNNING;

@@ -179,6 +179,11 @@ FOC_PARAM_POSITIVE(UNDERVOLTAGE_V, 4000.0);
  * change per Q15 step of the reference. */
 #define FOC_CURRENT_KREF_PU (FOC_CURRENT_KREF_V_PER_A * FOC_I_BASE_A / FOC_V_BASE_V)
 #define FOC_CURRENT_KREF_Q30 ((int32_t)(FOC_CURRENT_KREF_PU * 32768.0 + 0.5))
+/* The least Kp mantissa (at FOC_CURRENT_KP_SHIFT) the monitor takes: Kref,
+ * rounded up, so that the reference's proportional gain Kp - Kref is never
+ * negative. */
+#define FOC_CURRENT_KP_MIN_MANT                                                \
+    ((uint16_t)(FOC_CURRENT_KREF_PU / (double)(1L << FOC_CURRENT_KP_SHIFT) * 32768.0 + 0.999))
 /* Back-calculation gain: Ki/Kp (the PI's own zero), the usual choice. */
 #define FOC_CURRENT_KC Q15(FOC_CURRENT_KI_PU / FOC_CURRENT_KP_PU)
 /* The current references stay CURRENT_REF_MARGIN below CURRENT_LIMIT_A:

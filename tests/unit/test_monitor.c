@@ -352,9 +352,18 @@ static void case_gains(void)
     TK_CHECK(write16(kp.index, kp0) == 2 && reply[1] == 0 && write16(ki.index, ki0) == 2 &&
              reply[1] == 0 && ctrl.speed_ctrl.gains.kp == kp0 && ctrl.speed_ctrl.gains.ki == ki0,
              "speed gains restored");
-    /* the current PI's: written while running, used by the inline step */
-    TK_CHECK(write16(ckp.index, 1234u) == 2 && reply[1] == 0 &&
-             ctrl.current_ctrl.gains.kp == 1234, "current_kp written while running");
+    /* the current PI's: written while running, used by the inline step;
+     * not below Kref (the reference path's gain Kp - Kref >= 0), whose
+     * mantissa is computed here from the build's figures */
+    const double kref_pu = MOTOR_LQ_H * (FOC_CURRENT_DIST_RAD_S - FOC_CURRENT_ZERO_RAD_S) *
+                           FOC_I_BASE_A / FOC_V_BASE_V;
+    const uint16_t kref_mant = (uint16_t)ceil(kref_pu / ldexp(1.0, FOC_CURRENT_KP_SHIFT) * 32768.0);
+    const uint16_t ckp0 = (uint16_t)read16(ckp.index);
+    TK_CHECK(kref_mant > 0u && write16(ckp.index, (uint16_t)(kref_mant - 1u)) == 2 &&
+                 reply[1] == FOC_MON_E_RANGE && ctrl.current_ctrl.gains.kp == (int32_t)ckp0,
+             "current_kp %u below Kref %u refused", kref_mant - 1u, kref_mant);
+    TK_CHECK(write16(ckp.index, kref_mant) == 2 && reply[1] == 0 &&
+             ctrl.current_ctrl.gains.kp == (int32_t)kref_mant, "current_kp at Kref written while running");
 
     /* An observer's gain: refused while running, written stopped, and the
      * estimator takes it at its next restart. */
