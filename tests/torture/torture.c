@@ -553,6 +553,10 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
     }
     const int en_span = energised(o->prev_bridge) || (m->p.sample_mid_period && energised(m->bridge));
     o->prev_bridge = m->bridge;
+    /* the largest gain error of the plant's current sensors: the firmware
+     * sees the current that much larger or smaller (seed 67) */
+    const double gain_max =
+        fmax(fabs(m->p.gain_error[0]), fmax(fabs(m->p.gain_error[1]), fabs(m->p.gain_error[2])));
 
     /* history for the causes of faults */
     if (m->rotor == PMSM_ROTOR_LOCKED) o->last_lock_t = t;
@@ -623,9 +627,11 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
     if (r->vdc_v >= 0.97 * OVERVOLTAGE_V) o->last_ov_t = t;
     if (r->vdc_v <= 1.03 * UNDERVOLTAGE_V) o->last_uv_t = t;
     /* an over-current's cause: the hardware trip's level, or the current
-     * vector beyond CURRENT_LIMIT_A (the firmware's own trip, a little
-     * above it: a current the loop no longer holds) */
-    if (fmax(ipk, ipk_span) >= 0.97 * BOARD_CURRENT_FULL_SCALE_A || imag >= CURRENT_LIMIT_A) {
+     * vector beyond CURRENT_LIMIT_A as sensors with the plant's gain errors
+     * can read it (the firmware's own trip, a little above the limit: a
+     * current the loop no longer holds) */
+    if (fmax(ipk, ipk_span) >= 0.97 * BOARD_CURRENT_FULL_SCALE_A ||
+        imag * (1.0 + gain_max) >= CURRENT_LIMIT_A) {
         o->last_oc_t = t;
     }
     /* the estimate far from the truth: a reason to trip, not yet a
