@@ -404,7 +404,7 @@ typedef struct {
     double still_start, still_last;
     double ov_since;
     uint16_t prev_first;
-    pmsm_bridge_t prev_bridge; /* the bridge of the period before this one */
+    pmsm_bridge_t bridge_k, bridge_km1; /* of this row's period and the one before */
     /* recent history for fault causes */
     double last_lock_t, last_spin_t, last_heavy_t, last_nf_t, last_ov_t, last_uv_t;
     double last_est_wrong_t, last_ol_slip_t, last_start_turning_t, last_oc_t, last_hunt_t;
@@ -541,18 +541,26 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
     const double imag = sqrt(r->id_a * r->id_a + r->iq_a * r->iq_a);
     const int en = energised(r->bridge) || energised(s->model.bridge);
     const pmsm_model_t *m = &s->model;
-    /* the true peak between the previous sample and this one (with the
-     * switched bridge the ripple's extremes: the sample sees the ripple's
-     * middle), judged when the bridge switched in that span: the period
-     * before this one (and this one's first half when sampled mid-period);
-     * a CATCH probe's short is not PWM (seed 109) */
+    /* Rule 1's bridge, period by period: this row's sample was taken at
+     * the start of period k, and the oracle runs after the model has
+     * stepped through it, so m->bridge is period k+1's; the rows before
+     * kept k's and k-1's.  The sample is judged when the bridge switched
+     * next to it (period k-1 or k; k+1 too, as before), the true extremes
+     * since the previous sample (the switched bridge's ripple; the sample
+     * sees its middle) when it switched in the period they span, k-1 (and
+     * k's first half when sampled mid-period).  (The sample was judged by
+     * period k+1's bridge only: the end of a PWM period before the bridge
+     * turns off, such as CATCH's probe, a period of zero vector, was never
+     * judged: seed 109.) */
     const pmsm_sample_t *smp = &host_port()->last_sample;
     double ipk_span = 0.0;
     for (int ph = 0; ph < 3; ph++) {
         ipk_span = fmax(ipk_span, fmax(fabs(smp->i_min_a[ph]), fabs(smp->i_max_a[ph])));
     }
-    const int en_span = energised(o->prev_bridge) || (m->p.sample_mid_period && energised(m->bridge));
-    o->prev_bridge = m->bridge;
+    const int en_sample = en || energised(o->bridge_k) || energised(o->bridge_km1);
+    const int en_span = energised(o->bridge_km1) || (m->p.sample_mid_period && energised(o->bridge_k));
+    o->bridge_km1 = o->bridge_k;
+    o->bridge_k = m->bridge;
     /* the largest gain error of the plant's current sensors: the firmware
      * sees the current that much larger or smaller (seed 67) */
     const double gain_max =
@@ -665,8 +673,8 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
     const int uncontrollable =
         we * m->p.flux_wb > r->vdc_v / sqrt(3.0) + m->p.ld_h * we * CURRENT_LIMIT_A;
     if (uncontrollable) o->uncontrollable_periods++;
-    if ((en || en_span) && !uncontrollable) {
-        const double ratio = fmax(en ? ipk : 0.0, en_span ? ipk_span : 0.0) / CURRENT_LIMIT_A;
+    if ((en_sample || en_span) && !uncontrollable) {
+        const double ratio = fmax(en_sample ? ipk : 0.0, en_span ? ipk_span : 0.0) / CURRENT_LIMIT_A;
         if (ratio > o->peak_ratio) {
             o->peak_ratio = ratio;
             o->peak_t = t;
