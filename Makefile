@@ -44,14 +44,17 @@ sim: configure
 # The torture campaign of issue 10 (docs/safety.md, tests/torture):
 #   make torture [TORTURE_SEED=N] [TORTURE_RUNS=M]   random scenarios, seeds
 #                N .. N+M-1 over six motors, judged by the physical oracle;
-#                one seed reproduces one run: TORTURE_SEED=N TORTURE_RUNS=1
+#                one seed reproduces one run: TORTURE_SEED=N TORTURE_RUNS=1;
+#                the realistic plant of issue 13, TORTURE_PLANT=averaged for
+#                the averaged bridge model
 #   make torture-regress   the findings of issue 10 (tests/torture/regress)
 TORTURE_SEED ?= 1
 TORTURE_RUNS ?= 200
+TORTURE_PLANT ?= realistic
 
 torture: build
 	python3 tools/torture.py --bin $(BUILD)/torture --seed $(TORTURE_SEED) \
-	    --runs $(TORTURE_RUNS) --jobs $(JOBS)
+	    --runs $(TORTURE_RUNS) --plant $(TORTURE_PLANT) --jobs $(JOBS)
 
 torture-regress: build
 	python3 tools/torture.py --bin $(BUILD)/torture --regress tests/torture/regress

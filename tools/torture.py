@@ -6,6 +6,8 @@ torture executables (tests/torture/torture.c) and prints the oracle's table.
       runs seeds S .. S+M-1; seed N runs on motor MOTORS[N % len(MOTORS)]
       (the seed decides everything else), so one seed reproduces one run:
       make torture TORTURE_SEED=N TORTURE_RUNS=1
+      --plant averaged: the averaged bridge model instead of the realistic
+      plant (the same runs otherwise), for comparison.
       Exit status 1 if any run violated an invariant.
   torture.py --bin build/host/torture --regress tests/torture/regress
       the named findings: each .scn names its motor (#! motor X) and its
@@ -36,11 +38,12 @@ def parse_line(line):
     return out
 
 
-def run_seed(bindir, seed):
+def run_seed(bindir, seed, plant):
     motor = MOTORS[seed % len(MOTORS)]
     exe = os.path.join(bindir, "torture_" + motor)
     t0 = time.time()
-    p = subprocess.run([exe, "--seed", str(seed)], capture_output=True, text=True)
+    p = subprocess.run([exe, "--seed", str(seed), "--plant", plant], capture_output=True,
+                       text=True)
     lines = p.stdout.splitlines()
     res = parse_line(lines[0]) if lines and p.returncode == 0 else {}
     res["details"] = lines[1:]
@@ -56,7 +59,7 @@ def campaign(args):
     seeds = list(range(args.seed, args.seed + args.runs))
     t0 = time.time()
     with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as ex:
-        results = list(ex.map(lambda s: run_seed(args.bin, s), seeds))
+        results = list(ex.map(lambda s: run_seed(args.bin, s, args.plant), seeds))
     wall = time.time() - t0
     by_kind = collections.OrderedDict((k, []) for k in KINDS)
     crashed = [r for r in results if r["rc"] != 0 or "violations" not in r]
@@ -84,8 +87,8 @@ def campaign(args):
             worst_det = (dt, r)
     failing = [r for r in results if r.get("violations", "none") != "none"]
 
-    print("torture: seeds %d..%d, %d runs, %.1f s wall (%d jobs)" %
-          (seeds[0], seeds[-1], len(results), wall, args.jobs))
+    print("torture: seeds %d..%d, %d runs, %s plant, %.1f s wall (%d jobs)" %
+          (seeds[0], seeds[-1], len(results), args.plant, wall, args.jobs))
     print()
     print("| motor | runs | runs with a violation |")
     print("|---|---:|---:|")
@@ -119,10 +122,12 @@ def campaign(args):
                    r.get("end_state"), r.get("fault")))
             for d in r["details"]:
                 print("    " + d.strip())
-            print("    make torture TORTURE_SEED=%d TORTURE_RUNS=1   # or: %s --seed %d "
+            extra = "" if args.plant == "realistic" else " --plant " + args.plant
+            print("    make torture TORTURE_SEED=%d TORTURE_RUNS=1%s   # or: %s --seed %d%s "
                   "--dump seed%d.scn" % (r["seed"],
+                                         extra.replace(" --plant ", " TORTURE_PLANT="),
                                          os.path.join(args.bin, "torture_" + r["motor"]),
-                                         r["seed"], r["seed"]))
+                                         r["seed"], extra, r["seed"]))
     for r in crashed:
         print("CRASH seed %d (%s): rc %d %s" % (r["seed"], r["motor"], r["rc"],
                                                  r["stderr"][:300]))
@@ -164,6 +169,8 @@ def main():
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--runs", type=int, default=200)
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--plant", choices=["realistic", "averaged"], default="realistic",
+                    help="the generated runs' plant (default: realistic, issue 13)")
     ap.add_argument("--regress", help="folder of the regression scenarios")
     ap.add_argument("--quiet", action="store_true", help="no per-run details")
     ap.add_argument("--machinery-only", action="store_true",

@@ -6,9 +6,13 @@
  * nothing of the estimator's internals.  docs/safety.md states every rule
  * with its figures; the oracle below is the reference.
  *
- *   torture_<motor> --seed N [--dump FILE.scn] [--trace]
+ *   torture_<motor> --seed N [--plant averaged|realistic] [--dump FILE.scn] [--trace]
  *        one random run (the seed decides everything but the motor); prints
- *        one result line "key=value ..." (tools/torture.py collects them)
+ *        one result line "key=value ..." (tools/torture.py collects them);
+ *        the plant is the realistic one of issue 13 (switched bridge, the
+ *        board's sampling instant, sensor gains and drift, EMF harmonics,
+ *        q saturation: docs/safety.md) unless --plant averaged (the
+ *        averaged bridge, the same run otherwise)
  *   torture_<motor> --scenario FILE.scn [--estimator E] [--trace]
  *        (--trace: a CSV row every millisecond; --trace-every N: every N
  *        PWM periods)
@@ -196,6 +200,10 @@ static const char *const est_names[] = { "pll", "luenberger", "flux" };
 static const foc_est_kind_t est_kinds[] = { FOC_EST_PLL, FOC_EST_LUENBERGER, FOC_EST_FLUX };
 static const char *const stop_names[] = { "ramp", "coast", "short" };
 
+/* 1: the realistic plant of issue 13 (the default); 0: the averaged bridge
+ * model (--plant averaged), for comparison */
+static int plant_realistic = 1;
+
 /* A random scenario.  Everything is drawn from the seed, in a fixed order,
  * so one seed is one run. */
 static void generate(uint32_t seed, spec_t *sp)
@@ -234,6 +242,26 @@ static void generate(uint32_t seed, spec_t *sp)
     spec_add(sp, "0 plant deadtime %.6g\n", PWM_DEADTIME_S * urand(0.5, 1.5));
     if (irand(2) == 0) {
         spec_add(sp, "0 plant buscap %.6g\n", logrand(100e-6, 2000e-6) * (24.0 / vnom));
+    }
+    if (plant_realistic) {
+        /* issue 13: the switched bridge, the board's sampling instant, and
+         * the sensor's and the magnet's imperfections, drawn from a stream
+         * of their own: the rest of the run is the averaged plant's for the
+         * same seed (--plant averaged) */
+        const uint64_t main_stream = rng_state;
+        rng_state = 0x9EA100ull ^ ((uint64_t)seed * 0x100000001B3ull);
+        spec_add(sp, "0 plant switched 1\n0 plant midsample %d\n",
+                 SAMPLE_DELAY_PERIODS < 1.25 ? 1 : 0);
+        spec_add(sp, "0 plant gaina %.4f\n", urand(-0.03, 0.03));
+        spec_add(sp, "0 plant gainb %.4f\n", urand(-0.03, 0.03));
+        spec_add(sp, "0 plant gainc %.4f\n", urand(-0.03, 0.03));
+        spec_add(sp, "0 plant emf5 %.4f\n", urand(0.0, 0.04));
+        spec_add(sp, "0 plant emf7 %.4f\n", urand(0.0, 0.015));
+        spec_add(sp, "0 plant drifta %.3f\n", urand(-0.2, 0.2));
+        spec_add(sp, "0 plant driftb %.3f\n", urand(-0.2, 0.2));
+        spec_add(sp, "0 plant driftc %.3f\n", urand(-0.2, 0.2));
+        spec_add(sp, "0 plant lqsat %.4g\n", CURRENT_LIMIT_A * urand(2.0, 5.0));
+        rng_state = main_stream;
     }
     spec_add(sp, "0 angle %.1f\n", urand(0.0, 360.0));
 
@@ -376,6 +404,7 @@ typedef struct {
     double still_start, still_last;
     double ov_since;
     uint16_t prev_first;
+    pmsm_bridge_t bridge_k, bridge_km1; /* of this row's period and the one before */
     /* recent history for fault causes */
     double last_lock_t, last_spin_t, last_heavy_t, last_nf_t, last_ov_t, last_uv_t;
     double last_est_wrong_t, last_ol_slip_t, last_start_turning_t, last_oc_t, last_hunt_t;
@@ -512,6 +541,30 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
     const double imag = sqrt(r->id_a * r->id_a + r->iq_a * r->iq_a);
     const int en = energised(r->bridge) || energised(s->model.bridge);
     const pmsm_model_t *m = &s->model;
+    /* Rule 1's bridge, period by period: this row's sample was taken at
+     * the start of period k, and the oracle runs after the model has
+     * stepped through it, so m->bridge is period k+1's; the rows before
+     * kept k's and k-1's.  The sample is judged when the bridge switched
+     * next to it (period k-1 or k; k+1 too, as before), the true extremes
+     * since the previous sample (the switched bridge's ripple; the sample
+     * sees its middle) when it switched in the period they span, k-1 (and
+     * k's first half when sampled mid-period).  (The sample was judged by
+     * period k+1's bridge only: the end of a PWM period before the bridge
+     * turns off, such as CATCH's probe, a period of zero vector, was never
+     * judged: seed 109.) */
+    const pmsm_sample_t *smp = &host_port()->last_sample;
+    double ipk_span = 0.0;
+    for (int ph = 0; ph < 3; ph++) {
+        ipk_span = fmax(ipk_span, fmax(fabs(smp->i_min_a[ph]), fabs(smp->i_max_a[ph])));
+    }
+    const int en_sample = en || energised(o->bridge_k) || energised(o->bridge_km1);
+    const int en_span = energised(o->bridge_km1) || (m->p.sample_mid_period && energised(o->bridge_k));
+    o->bridge_km1 = o->bridge_k;
+    o->bridge_k = m->bridge;
+    /* the largest gain error of the plant's current sensors: the firmware
+     * sees the current that much larger or smaller (seed 67) */
+    const double gain_max =
+        fmax(fabs(m->p.gain_error[0]), fmax(fabs(m->p.gain_error[1]), fabs(m->p.gain_error[2])));
 
     /* history for the causes of faults */
     if (m->rotor == PMSM_ROTOR_LOCKED) o->last_lock_t = t;
@@ -582,9 +635,13 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
     if (r->vdc_v >= 0.97 * OVERVOLTAGE_V) o->last_ov_t = t;
     if (r->vdc_v <= 1.03 * UNDERVOLTAGE_V) o->last_uv_t = t;
     /* an over-current's cause: the hardware trip's level, or the current
-     * vector beyond CURRENT_LIMIT_A (the firmware's own trip, a little
-     * above it: a current the loop no longer holds) */
-    if (ipk >= 0.97 * BOARD_CURRENT_FULL_SCALE_A || imag >= CURRENT_LIMIT_A) o->last_oc_t = t;
+     * vector beyond CURRENT_LIMIT_A as sensors with the plant's gain errors
+     * can read it (the firmware's own trip, a little above the limit: a
+     * current the loop no longer holds) */
+    if (fmax(ipk, ipk_span) >= 0.97 * BOARD_CURRENT_FULL_SCALE_A ||
+        imag * (1.0 + gain_max) >= CURRENT_LIMIT_A) {
+        o->last_oc_t = t;
+    }
     /* the estimate far from the truth: a reason to trip, not yet a
      * violation when the controller does not (rule 3 judges the angle) */
     if ((st == FOC_STATE_RUN || st == FOC_STATE_OPENLOOP) &&
@@ -616,14 +673,14 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
     const int uncontrollable =
         we * m->p.flux_wb > r->vdc_v / sqrt(3.0) + m->p.ld_h * we * CURRENT_LIMIT_A;
     if (uncontrollable) o->uncontrollable_periods++;
-    if (en && !uncontrollable) {
-        const double ratio = ipk / CURRENT_LIMIT_A;
+    if ((en_sample || en_span) && !uncontrollable) {
+        const double ratio = fmax(en_sample ? ipk : 0.0, en_span ? ipk_span : 0.0) / CURRENT_LIMIT_A;
         if (ratio > o->peak_ratio) {
             o->peak_ratio = ratio;
             o->peak_t = t;
         }
         if (ratio > I_MARGIN) {
-            violate(o, V_CURRENT, t, "%.3f A = %.2f x CURRENT_LIMIT_A in %s", ipk, ratio,
+            violate(o, V_CURRENT, t, "%.3f A = %.2f x CURRENT_LIMIT_A in %s", ratio * CURRENT_LIMIT_A, ratio,
                     foc_state_name(st));
         }
     }
@@ -789,6 +846,7 @@ typedef struct {
     uint16_t fault;
     double t_end;
     double angle_err_rms_deg; /* sim_angle_err_rms_deg: in RUN from measure_from_s */
+    double sample_peak_a;     /* the largest sampled phase current, A */
 } result_t;
 
 static int run_spec(const spec_t *sp, inject_t inj, int trace, result_t *res)
@@ -837,6 +895,7 @@ static int run_spec(const spec_t *sp, inject_t inj, int trace, result_t *res)
     res->fault = sim.ctrl.faults.first;
     res->t_end = scn.end_s;
     res->angle_err_rms_deg = sim_angle_err_rms_deg(&sim);
+    res->sample_peak_a = sim.peak_current_a;
     scn_free(&scn);
     return 0;
 }
@@ -1076,6 +1135,20 @@ static int selftest(void)
                r.o.last_cause ? r.o.last_cause : "");
         fail |= !hit;
     }
+    /* the ripple: on the switched bridge the benign run's judged peak is
+     * above every sampled current (the oracle reads the extremes; the
+     * Hurst075's ripple is 1 % of that peak) */
+    {
+        static spec_t sw;
+        benign_spec(&sw);
+        spec_add(&sw, "0 plant switched 1\n");
+        if (run_spec(&sw, INJ_NONE, 0, &r) != 0) return 2;
+        const double peak_a = r.o.peak_ratio * CURRENT_LIMIT_A;
+        const int seen = total_violations(&r) == 0 && peak_a > 1.002 * r.sample_peak_a;
+        printf("selftest switched bridge: peak %.4f A, sampled %.4f A -> %s\n", peak_a,
+               r.sample_peak_a, seen ? "ripple seen" : "MISSED");
+        fail |= !seen;
+    }
     /* the stall must also show up as a thermal violation when it lasts */
     /* determinism: one seed, one run */
     static spec_t a, b;
@@ -1117,6 +1190,14 @@ int main(int argc, char **argv)
             for (int k = 0; k < 3; k++) {
                 if (strcmp(argv[i], est_names[k]) == 0) est = k;
             }
+        } else if (strcmp(argv[i], "--plant") == 0 && i + 1 < argc) {
+            ++i;
+            if (strcmp(argv[i], "averaged") == 0) {
+                plant_realistic = 0;
+            } else if (strcmp(argv[i], "realistic") != 0) {
+                fprintf(stderr, "torture: --plant averaged|realistic\n");
+                return 2;
+            }
         } else if (strcmp(argv[i], "--trace") == 0) {
             trace = (int)(PWM_FREQUENCY_HZ / 1000.0);
         } else if (strcmp(argv[i], "--trace-every") == 0 && i + 1 < argc) {
@@ -1136,7 +1217,7 @@ int main(int argc, char **argv)
             return 0;
         } else {
             fprintf(stderr,
-                    "usage: %s --seed N [--dump FILE.scn] [--trace] | --scenario FILE "
+                    "usage: %s --seed N [--plant averaged|realistic] [--dump FILE.scn] [--trace] | --scenario FILE "
                     "[--estimator pll|luenberger|flux] [--trace | --trace-every N] | --params | --selftest\n",
                     argv[0]);
             return 2;
