@@ -68,7 +68,6 @@ static void take_post(foc_ctrl_t *c)
         foc_port_set_duties(&c->duty);
         /* CATCH: the probe begins with the bridge off */
         c->probe = (uint8_t)(c->post == (uint8_t)FOC_POST_CATCH);
-        c->probe_first = 0;
         if (c->probe != 0u) {
             foc_port_pwm_disable();
         } else if (c->state != FOC_STATE_IDLE && c->state != FOC_STATE_FAULT) {
@@ -155,7 +154,6 @@ void foc_init(foc_ctrl_t *c)
     c->i_dq = zero_dq;
     c->duty = half_duty;
     c->probe = 0;
-    c->probe_first = 0;
     foc_cs_calib_start(&c->current_sense, FOC_CALIB_PERIODS_LOG2);
     foc_cc_init(&c->current_ctrl);
     foc_sc_init(&c->speed_ctrl);
@@ -276,14 +274,41 @@ static FOC_ALWAYS_INLINE void apply_voltage(foc_ctrl_t *c, foc_sincos_t sc_v)
  * alignment puts its back-EMF on q), in magnitude in CATCH, where the
  * q voltage is held and the rotation turns the deviation, dV t / L, off
  * the d axis (to second order in the angle turned). */
+/* CATCH's probe: a constant voltage error e in the held voltages (their
+ * share of the back-EMF, held in a frame a little off the probe's) adds
+ * e t / L to the response of both halves, so that down then up leaves
+ * 2 e N T / L where the up half ends: the dip less half of that, N periods
+ * after it, is the step's own.  (The dip alone measured the Hurst075 at
+ * 1.5 x its inductance, caught at 1000 rpm, 2.8 +- 2 % high over eight
+ * catch angles, 6.8 % at 2000 rpm.) */
+static void l_probe_caught(foc_ctrl_t *c, uint8_t k, foc_dq_t dev)
+{
+    const q15_t mag = foc_mag_q15(dev.d, dev.q);
+    if (k == 1u || (c->lprobe_dip_k != 0u && mag > c->lprobe_peak)) {
+        c->lprobe_peak = mag;
+        c->lprobe_dip = dev;
+        c->lprobe_dip_k = k;
+    } else if (c->lprobe_dip_k != 0u && k == (uint8_t)(c->lprobe_dip_k + FOC_LPROBE_N)) {
+        c->lprobe_peak = foc_mag_q15(foc_sub_q15(c->lprobe_dip.d, (q15_t)(dev.d / 2)),
+                                     foc_sub_q15(c->lprobe_dip.q, (q15_t)(dev.q / 2)));
+        c->lprobe_dip_k = 0;
+    } else {
+        /* between the two */
+    }
+}
+
 static void l_probe(foc_ctrl_t *c, uint8_t frame, q15_t v_max)
 {
     const uint8_t k = c->lprobe;
     const q15_t dev_d = foc_sub_q15(c->i_dq.d, c->i_ref_slewed.d);
-    const q15_t dev = (frame == FRAME_FORCED) ? foc_abs_q15(dev_d)
-                                     : foc_mag_q15(dev_d, foc_sub_q15(c->i_dq.q, c->i_ref_slewed.q));
-    if (k == 1u || dev > c->lprobe_peak) {
-        c->lprobe_peak = dev;
+    if (frame == FRAME_FORCED) {
+        const q15_t dev = foc_abs_q15(dev_d);
+        if (k == 1u || dev > c->lprobe_peak) {
+            c->lprobe_peak = dev;
+        }
+    } else {
+        const foc_dq_t dev = { dev_d, foc_sub_q15(c->i_dq.q, c->i_ref_slewed.q) };
+        l_probe_caught(c, k, dev);
     }
     const q15_t dv = (k <= FOC_LPROBE_N) ? (q15_t)-FOC_LPROBE_DV : (k <= 2u * FOC_LPROBE_N) ? FOC_LPROBE_DV : 0;
     const q15_t vd = foc_add_q15((q15_t)(c->current_ctrl.pi_d.integ / 32768), dv);
@@ -432,16 +457,19 @@ FOC_COLD static void commission_fast(foc_ctrl_t *c)
 }
 
 /* Angle of the short-circuit current i = -(1/L) integral of E over one
- * short: the EMF's angle + 180 deg, at the middle of the short (about half
- * a period before the sample).  The rotor (E on its q axis: 90 deg ahead
- * of it in the direction of rotation) is 90 deg past the current in that
- * direction, plus half a period of rotation to the sample.  `current` is
- * the current's angle, `turn` the angle turned per period. */
+ * short: the EMF's angle + 180 deg, at the middle of the short (half the
+ * short's length before the sample that ends it).  The rotor (E on its q
+ * axis: 90 deg ahead of it in the direction of rotation) is 90 deg past
+ * the current in that direction, plus that half short of rotation to the
+ * sample, plus a period: the estimator's next step is two samples on, and
+ * it advances its angle a period before it corrects it (one period behind,
+ * 10 deg at the servo's 4000 rpm, the flux estimator lost the rotor).
+ * `current` is the current's angle, `turn` the angle turned per period. */
 static uint16_t probe_rotor_angle(uint16_t current, int32_t turn)
 {
     const int32_t quarter = (turn < 0) ? (int32_t)-16384 : (int32_t)16384;
     /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
-    return (uint16_t)((int32_t)current + quarter + turn / 2);
+    return (uint16_t)((int32_t)current + quarter + turn * (FOC_PROBE_ADVANCE_X4 + 4) / 4);
 }
 
 /* Squared magnitude of a current, Q30 / 4 (<= 2^29). */
@@ -486,20 +514,18 @@ static uint8_t probe_take(foc_ctrl_t *c, foc_ab_t i)
  * it needs to find the EMF (1.35-1.44 x the limit on the servo caught at
  * 3500 rpm, tests/torture/regress/4c).  So, twice: the bridge off for
  * FOC_PROBE_OFF_PERIODS (a current left from before returns to zero
- * through the diodes), then one period of zero vector (enabled in one
- * period, disabled in the next, whenever the bridge acts on it) and two
- * samples, of which the first short keeps the larger (the end of the
- * short, wherever the bridge's delays put it) and the second the same
- * one.  Each short's current gives the EMF's angle, the angle turned
- * between the two, FOC_PROBE_SPACING periods apart, the speed.  Then the
- * estimator and the current controller are preset to the rotor's angle,
- * speed and back-EMF while the current returns to zero, and the bridge
- * takes the rotor holding zero current from the first period.  A first
- * short with too little current, or shorts that disagree, leave CATCH to
- * start from rest, the bridge on.
- * probe: periods since the restart; probe_first: which sample of the
- * first short (1, 2) was kept, 0 before.  Returns whether the current
- * loop runs this period, and whether the bridge is enabled after it. */
+ * through the diodes), then zero vector from a sample, or half a period
+ * after it (FOC_PROBE_HALF_SHORT, config.h), to the next sample, after
+ * which the bridge is off at once.  Each short's current gives the EMF's
+ * angle, the angle
+ * turned between the two, FOC_PROBE_SPACING periods apart, the speed.
+ * Then the estimator and the current controller are preset to the
+ * rotor's angle, speed and back-EMF while the current returns to zero,
+ * and the bridge takes the rotor holding zero current from the first
+ * period.  A first short with too little current, or shorts that
+ * disagree, leave CATCH to start from rest, the bridge on.
+ * probe: periods since the restart.  Returns whether the current loop
+ * runs this period, and whether the bridge is enabled after it. */
 /* What catch_probe() leaves to the fast step: nothing, the current loop,
  * or the current loop and then the bridge enabled. */
 #define PROBE_BUSY 0u
@@ -515,38 +541,32 @@ FOC_COLD static uint8_t catch_probe(foc_ctrl_t *c)
     c->probe = (uint8_t)(k + 1u);
     const uint8_t second = (uint8_t)(k >= FOC_PROBE_OFF_PERIODS + FOC_PROBE_SPACING);
     const uint8_t j = (uint8_t)(k - FOC_PROBE_OFF_PERIODS - (second != 0u ? FOC_PROBE_SPACING : 0u));
-    if (k < FOC_PROBE_OFF_PERIODS || j > 3u) {
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    if (k < FOC_PROBE_OFF_PERIODS || j > (uint8_t)(FOC_PROBE_END + 2u)) {
         return PROBE_BUSY; /* bridge off */
     }
     if (j == 0u) {
-        foc_port_pwm_enable(); /* duties 1/2: the short */
-    } else if (j == 1u) {
-        foc_port_pwm_disable();
+        foc_port_pwm_enable_at_half(); /* duties 1/2: the short */
+    } else if (j == FOC_PROBE_END) {
+        foc_port_pwm_disable(); /* i: the short's end */
     } else {
         /* the bridge stays as it is */
     }
     if (second == 0u) {
-        if (j == 1u) {
+        if (j == FOC_PROBE_END) {
             c->i_ab = i;
-            c->probe_first = 1;
-        } else if (j == 2u && probe_mag2(i) > probe_mag2(c->i_ab)) {
-            c->i_ab = i;
-            c->probe_first = 2;
-        } else {
-            /* the first short's current stays */
+            if (probe_mag2(i) < FOC_PROBE_MIN_MAG2) {
+                c->probe = 0; /* slow: CATCH from rest */
+                foc_port_pwm_enable();
+            }
         }
-        if (j == 2u && probe_mag2(c->i_ab) < FOC_PROBE_MIN_MAG2) {
-            c->probe = 0; /* slow: CATCH from rest */
-            c->i_ab = i;
-            foc_port_pwm_enable();
-        }
-    } else if (j == c->probe_first) {
+    } else if (j == FOC_PROBE_END) {
         if (probe_take(c, i) == 0u) {
             c->probe = 0; /* no agreement: CATCH from rest */
             c->i_ab = i;
             foc_port_pwm_enable();
         }
-    } else if (j == 3u) {
+    } else if (j == (uint8_t)(FOC_PROBE_END + 2u)) {
         /* the current is back to zero: the controller takes the rotor */
         c->probe = 0;
         return PROBE_LOOP_ENABLE;
@@ -691,19 +711,33 @@ static void identify_rs(foc_ctrl_t *c)
 }
 
 /* The inductance probe's dip against the one the parameter's Ld gives
- * (FOC_LPROBE_DI), less the winding's own decay over it (Rs T / 2, Rs
- * the alignment's): Ld / MOTOR_LD_H, applied to both axes within
- * [0.5, 2).  A wrong inductance fakes a speed from every torque step
- * (dL / psi) diq/dt, which the speed loop turns back into current
- * (docs/safety.md); every sensorless estimator takes the measure. */
-static void identify_ls(foc_ctrl_t *c, int32_t dip)
+ * (FOC_LPROBE_DI): Ld / MOTOR_LD_H, applied to both axes within [0.5, 2).
+ * The winding's own decay over the probe, r = Rs T / L (Rs the
+ * alignment's), shrinks the dip: ALIGN's by r / 2 (`aligned`: the ratio
+ * less FOC_LPROBE_RT_Q14, which is r / 2 at the parameter's L); CATCH's,
+ * less half the up half's end (l_probe_caught), by r^2 / 3 only, taken
+ * off as (r at the parameter's L)^2 / (3 ratio) (the Hurst075 at 0.6 x
+ * its inductance, r = 0.33: 3 % high without it).  A wrong inductance
+ * fakes a speed from every torque step (dL / psi) diq/dt, which the speed
+ * loop turns back into current (docs/safety.md); every sensorless
+ * estimator takes the measure. */
+static void identify_ls(foc_ctrl_t *c, int32_t dip, uint8_t aligned)
 {
     if (foc_abs_q15(c->i_dq.d) < foc_abs_q15(c->i_ref.d) / 2 || dip <= 0) {
         return; /* not held: no measure */
     }
-    const int32_t ratio = ((int32_t)FOC_LPROBE_DI * 16384) / dip -
-                          /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-                          ((FOC_LPROBE_RT_Q14 * (int32_t)c->est.rs_ratio) >> 14);
+    /* r / 2 at the parameter's L, Q14 (<= 2^14 x 2 for rs_ratio < 2) */
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    const int32_t half_r = (FOC_LPROBE_RT_Q14 * (int32_t)c->est.rs_ratio) >> 14;
+    int32_t ratio = ((int32_t)FOC_LPROBE_DI * 16384) / dip;
+    if (aligned != 0u) {
+        ratio -= half_r;
+    } else if (ratio > 0) {
+        /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+        ratio -= (((4 * half_r * half_r) >> 14) * 16384) / (3 * ratio);
+    } else {
+        /* no measure: measured_ratio keeps it in range */
+    }
     foc_est_set_ls(&c->est, measured_ratio(ratio));
 }
 
@@ -759,7 +793,7 @@ static void catch_tick(foc_ctrl_t *c)
                 catch_run(c); /* never settled: no measure */
             }
         } else if (c->lprobe == FOC_LPROBE_DONE) {
-            identify_ls(c, c->lprobe_peak);
+            identify_ls(c, c->lprobe_peak, 0u);
             catch_run(c);
         } else {
             /* the probe runs */
@@ -883,7 +917,7 @@ static void startup_tick(foc_ctrl_t *c)
                 c->lprobe_req = 1u; /* the fast step's count back to 0 */
                 return;
             }
-            identify_ls(c, c->lprobe_dips / (int32_t)FOC_LPROBE_REPEAT);
+            identify_ls(c, c->lprobe_dips / (int32_t)FOC_LPROBE_REPEAT, 1u);
             c->lprobe_req = 0;
             enter(c, FOC_STATE_OPENLOOP);
         } else if (foc_startup_align_tick(&c->startup) != 0u) {

@@ -325,8 +325,33 @@ void foc_port_set_duties(const foc_duty_t *d)
     dspic_set_duties(&cfg, d);
 }
 
+/* The ADC samples just before the top of the count (P1SECMP, counting
+ * up); the duties load at the bottom (PTMR = 0), half a period later:
+ * waits (at most a period, Timer2/3 at Fcy) for the time base to count up
+ * in its lower half.  An override at once would apply the period's old
+ * duties to a turning rotor until then (OSYNC = 1 would act at the top
+ * too, in the centre-aligned modes). */
+static void wait_for_bottom(void)
+{
+    const uint32_t t0 = foc_port_timestamp();
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    while (((P1TMR & 0x8000u) != 0u || (P1TMR & 0x7FFFu) >= (uint16_t)(BOARD_PTPER / 2u)) &&
+           /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+           foc_port_timestamp() - t0 < 2uL * ((uint32_t)BOARD_PTPER + 1uL)) {
+        /* counting down, or up in the upper half */
+    }
+}
+
 void foc_port_pwm_enable(void)
 {
+    wait_for_bottom();
+    dspic_pwm_enable(&cfg);
+}
+
+/* The bottom is also half a period after the sample. */
+void foc_port_pwm_enable_at_half(void)
+{
+    wait_for_bottom();
     dspic_pwm_enable(&cfg);
 }
 

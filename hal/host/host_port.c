@@ -55,7 +55,7 @@ static void latch_overcurrent(void)
 {
     port.overcurrent_latch = 1;
     port.pwm_enabled = 0;
-    pmsm_set_bridge(port.model, PMSM_BRIDGE_OFF);
+    pmsm_set_bridge_now(port.model, PMSM_BRIDGE_OFF);
 }
 
 void foc_port_read_samples(foc_samples_t *s)
@@ -88,6 +88,7 @@ void foc_port_set_duties(const foc_duty_t *d)
     pmsm_set_duties(port.model, d->a / 32768.0, d->b / 32768.0, d->c / 32768.0);
 }
 
+/* From the next period boundary, with the duties set now (port.h). */
 void foc_port_pwm_enable(void)
 {
     if (!port.overcurrent_latch) {
@@ -96,17 +97,28 @@ void foc_port_pwm_enable(void)
     }
 }
 
+void foc_port_pwm_enable_at_half(void)
+{
+    if (!port.overcurrent_latch) {
+        port.pwm_enabled = 1;
+        pmsm_set_bridge_at(port.model, PMSM_BRIDGE_PWM,
+                           port.model->period_pos_s + 0.5 / port.model->p.pwm_hz);
+    }
+}
+
+/* At once, as on both boards (MOE, OVDCON with OSYNC = 0): the rest of
+ * this period is off (or shorted) too. */
 void foc_port_pwm_disable(void)
 {
     port.pwm_enabled = 0;
-    pmsm_set_bridge(port.model, PMSM_BRIDGE_OFF);
+    pmsm_set_bridge_now(port.model, PMSM_BRIDGE_OFF);
 }
 
 void foc_port_low_sides_on(void)
 {
     if (!port.overcurrent_latch) {
         port.pwm_enabled = 0;
-        pmsm_set_bridge(port.model, PMSM_BRIDGE_LOW_SIDES);
+        pmsm_set_bridge_now(port.model, PMSM_BRIDGE_LOW_SIDES);
     }
 }
 

@@ -103,6 +103,9 @@ static stm32_aux_t aux;
 static uint8_t aux_pot;
 static volatile uint8_t low_sides;
 static volatile uint8_t oc_latched;
+/* foc_port_pwm_enable's request: MOE at the next update, with the duties
+ * the fast step has just set (TIM1_UP_IRQHandler) */
+static volatile uint8_t enable_pending;
 static uint8_t timer_aligned; /* 0: the bridge is never enabled */
 static volatile uint32_t fast_steps;
 static volatile uint32_t slow_ticks;
@@ -143,6 +146,12 @@ static uint8_t outputs_on(void)
     return (TIM1->BDTR & TIM_BDTR_MOE) != 0u;
 }
 
+/* on, or turning on at the next update: the next period's plan drives */
+static uint8_t outputs_driving(void)
+{
+    return (uint8_t)(outputs_on() || enable_pending != 0u);
+}
+
 /* ------------------------------------------------------- port.h -- */
 void foc_port_read_samples(foc_samples_t *s)
 {
@@ -169,12 +178,37 @@ void foc_port_pwm_enable(void)
     if (timer_aligned && !foc_port_overcurrent_latched()) {
         low_sides = 0u;
         set_output_modes(0u);
-        if (!outputs_on()) {
+        if (!outputs_driving()) {
             /* 50 % until the fast step's duties: all three phases are
-             * readable at the top; conversions resume at the next update. */
+             * readable at the top; conversions resume at the next update,
+             * where MOE is set with the duties that load there.  Set now,
+             * the outputs would apply this period's 50 %, a zero vector,
+             * to a turning rotor's back-EMF until then. */
             apply_plan(&plan_on_all, 1u);
-            TIM1->BDTR = (uint16_t)(TIM1->BDTR | TIM_BDTR_MOE);
+            enable_pending = 1u;
         }
+    }
+    irq_restore(m);
+}
+
+/* The sample sits at a turning point of the count (the top, or the
+ * bottom in the update-at-bottom build), so half a period after it is the
+ * next one: the count's direction changes there.  The bridge-off plan
+ * stays armed: its conversion, at the next update, ends the short. */
+void foc_port_pwm_enable_at_half(void)
+{
+    const uint32_t t0 = DWT->CYCCNT;
+    const uint16_t dir0 = (uint16_t)(TIM1->CR1 & TIM_CR1_DIR);
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    while ((uint16_t)(TIM1->CR1 & TIM_CR1_DIR) == dir0 && DWT->CYCCNT - t0 < PWM_PERIOD) {
+        /* at most half a period (PWM_PERIOD cycles) */
+    }
+    const uint32_t m = irq_save();
+    if (timer_aligned && !foc_port_overcurrent_latched()) {
+        low_sides = 0u;
+        set_output_modes(0u);
+        enable_pending = 0u;
+        TIM1->BDTR = (uint16_t)(TIM1->BDTR | TIM_BDTR_MOE);
     }
     irq_restore(m);
 }
@@ -183,6 +217,7 @@ void foc_port_pwm_disable(void)
 {
     const uint32_t m = irq_save();
     TIM1->BDTR = (uint16_t)(TIM1->BDTR & (uint16_t)~TIM_BDTR_MOE);
+    enable_pending = 0u;
     low_sides = 0u;
     set_output_modes(0u);
     apply_plan(&plan_off, 0u);
@@ -195,6 +230,7 @@ void foc_port_low_sides_on(void)
     if (timer_aligned && !foc_port_overcurrent_latched()) {
         low_sides = 1u;
         set_output_modes(1u); /* OCxREF forced low: high sides off, low on */
+        enable_pending = 0u;
         if (!outputs_on()) {
             apply_plan(&plan_on_all, 1u);
             TIM1->BDTR = (uint16_t)(TIM1->BDTR | TIM_BDTR_MOE);
@@ -254,7 +290,7 @@ static void arm_next_period(void)
     stm32_plan_pwm_four(&pwm, &d, &timing, &seq4, aux_pot, LEAD_COUNTS);
 #endif
     m = irq_save();
-    if (!outputs_on()) {
+    if (!outputs_driving()) {
         apply_plan(&plan_off, 0u);
     } else {
         apply_plan(low_sides ? &plan_on_all : &pwm, (uint8_t)!STM32_UPDATE_AT_TOP);
@@ -299,6 +335,12 @@ void ADC1_2_IRQHandler(void)
 void TIM1_UP_IRQHandler(void)
 {
     TIM1->SR = (uint16_t)~TIM_SR_UIF;
+    if (enable_pending != 0u) {
+        enable_pending = 0u;
+        if (!foc_port_overcurrent_latched()) {
+            TIM1->BDTR = (uint16_t)(TIM1->BDTR | TIM_BDTR_MOE);
+        }
+    }
     stm32_release_trigger(ADC1);
 }
 
@@ -308,6 +350,7 @@ void TIM1_BRK_IRQHandler(void)
      * is active, so the interrupt is re-enabled only by the clear. */
     TIM1->DIER = (uint16_t)(TIM1->DIER & (uint16_t)~TIM_DIER_BIE);
     oc_latched = 1u;
+    enable_pending = 0u;
     low_sides = 0u;
     set_output_modes(0u);
     apply_plan(&plan_off, 0u); /* keep converting: the fast step sees it */

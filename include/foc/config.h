@@ -201,10 +201,12 @@ FOC_PARAM_POSITIVE(UNDERVOLTAGE_V, 4000.0);
  * sampled current vector's amplitude above CURRENT_LIMIT_A x (1 +
  * CURRENT_TRIP_MARGIN), before the peak reaches CURRENT_LIMIT_A + 5 %: the
  * regulated currents stay CURRENT_REF_MARGIN below the limit, so a run
- * under control never reaches it (docs/safety.md).  Compared squared,
- * Q30 (no square root). */
+ * under control never reaches it (docs/safety.md).  At the limit itself:
+ * the sample is the ripple's middle, read through sensors up to 3 % off,
+ * and 2 % above it let the true peak reach 1.05-1.08 x on the realistic
+ * plant (seeds 109, 289, 957).  Compared squared, Q30 (no square root). */
 #ifndef CURRENT_TRIP_MARGIN
-#define CURRENT_TRIP_MARGIN 0.02
+#define CURRENT_TRIP_MARGIN 0.0
 #endif
 #define FOC_CURRENT_TRIP_PU (CURRENT_LIMIT_A * (1.0 + CURRENT_TRIP_MARGIN) / FOC_I_BASE_A)
 #define FOC_CURRENT_TRIP_SQ_Q30                                                \
@@ -957,9 +959,9 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
 /* ------------------------------------------------------------ checks -- */
 FOC_STATIC_ASSERT(MOTOR_POLE_PAIRS >= 1 && MOTOR_POLE_PAIRS <= 64,
                   "MOTOR_POLE_PAIRS must be 1..64");
-FOC_STATIC_ASSERT(CURRENT_TRIP_MARGIN > 0.0 && CURRENT_TRIP_MARGIN < 0.05 &&
+FOC_STATIC_ASSERT(CURRENT_TRIP_MARGIN >= 0.0 && CURRENT_TRIP_MARGIN < 0.05 &&
                   CURRENT_LIMIT_A * (1.0 + CURRENT_TRIP_MARGIN) < BOARD_CURRENT_FULL_SCALE_A,
-                  "CURRENT_TRIP_MARGIN within (0, 5 %) and its trip level below "
+                  "CURRENT_TRIP_MARGIN within [0, 5 %) and its trip level below "
                   "BOARD_CURRENT_FULL_SCALE_A");
 FOC_STATIC_ASSERT(CURRENT_LIMIT_A > 0.0 && CURRENT_LIMIT_A < BOARD_CURRENT_FULL_SCALE_A,
                   "CURRENT_LIMIT_A must be below BOARD_CURRENT_FULL_SCALE_A");
@@ -1110,26 +1112,57 @@ FOC_STATIC_ASSERT(SAMPLE_DELAY_PERIODS >= 1.0 && SAMPLE_DELAY_PERIODS <= 1.5,
 #define FOC_CATCH_TICKS                                                        \
     (FOC_TICKS(CATCH_TIME_S) > 64u ? FOC_TICKS(CATCH_TIME_S) : (uint16_t)64u)
 #define FOC_CATCH_MAX_TICKS ((uint16_t)(2u * FOC_CATCH_TICKS))
-/* CATCH's probe (controller.c, catch_probe): two one-period shorts of the
- * windings, each after FOC_PROBE_OFF_PERIODS with the bridge off, so
- * FOC_PROBE_SPACING periods apart.  A rotor is taken on the probe when the
+/* CATCH's probe (controller.c, catch_probe): two shorts of the windings,
+ * each after FOC_PROBE_OFF_PERIODS with the bridge off, so
+ * FOC_PROBE_SPACING periods apart.  Each begins half a period after a
+ * sample and ends at the next one, or at the one after (FOC_PROBE_LONG:
+ * 0.5 or 1.5 periods), the longer where its current at the maximum speed
+ * stays within FOC_PROBE_SHORT_MAX of the limit (the motor's parameters;
+ * the plant may have half the inductance and 1.2 x the flux, 2.4 x that
+ * current: the Shinano caught at its maximum speed drove 1.29 x the limit
+ * in a whole period, seed 109).  The shorter current is a third as far
+ * above the ADC's noise, so a motor that allows the longer keeps it (the
+ * Hurst075 caught at 1000 rpm: 4 codes in half a period).
+ * A rotor is taken on the probe when the
  * first short drove at least the current of a rotor at
- * STARTUP_MIN_SPEED_RPM (FOC_IREF_STEP_EMF_PU is one period's at that
- * speed), and at least FOC_PROBE_NOISE_CODES ADC codes (2 codes of noise
+ * STARTUP_MIN_SPEED_RPM (FOC_IREF_STEP_EMF_PU is a whole period's at that
+ * speed, x FOC_PROBE_SHORT_PERIODS), and at least FOC_PROBE_NOISE_CODES ADC codes (2 codes of noise
  * stay 3 sigma below it); Q15 of the current base, compared squared, / 4
  * as probe_mag2.  Twice the minimum speed's current (before) let the
  * Shinano's rotor at 10 % of its maximum speed (400 rpm, 1.25 x its
  * minimum) slip through to the estimator from rest, which locked too late
  * (tools/flying_start.py).
- * The speed is the angle turned from one short to the other: the fastest
- * rotor must turn less than half a turn in FOC_PROBE_SPACING periods. */
+ * The speed is the angle turned from one short to the other, so the
+ * shorts are as far apart as a rotor at the overspeed limit allows for a
+ * quarter turn (half a turn would alias), 8 .. 64 periods: each short's
+ * angle has the noise of a current of a few ADC codes (+-6 deg at 10
+ * codes), which on the 8 periods of before (the Hurst075 caught at 1172
+ * rpm, 0.088 A) gave the speed 56 % high. */
+#define FOC_PROBE_SHORT_MAX 0.4
+/* a whole period's short at the maximum speed, A */
+#define FOC_PROBE_PERIOD_AT_MAX_A                                              \
+    (MOTOR_KE_VPK_PER_KRPM / FOC_SQRT3_D * MOTOR_MAX_SPEED_RPM / 1000.0 * FOC_TS_S / \
+     (MOTOR_LD_H < MOTOR_LQ_H ? MOTOR_LD_H : MOTOR_LQ_H))
+#define FOC_PROBE_LONG                                                         \
+    ((uint8_t)(1.5 * FOC_PROBE_PERIOD_AT_MAX_A <= FOC_PROBE_SHORT_MAX * CURRENT_LIMIT_A))
+/* the short in periods; the sample that ends it (1, 2 after the one it
+ * follows); a quarter of its length in periods, x 4 (the rotor's advance
+ * from the short's middle to its end) */
+#define FOC_PROBE_SHORT_PERIODS (FOC_PROBE_LONG != 0u ? 1.5 : 0.5)
+#define FOC_PROBE_END ((uint8_t)(FOC_PROBE_LONG != 0u ? 2u : 1u))
+#define FOC_PROBE_ADVANCE_X4 ((FOC_PROBE_LONG != 0u) ? (int32_t)3 : (int32_t)1)
 #define FOC_PROBE_OFF_PERIODS 4u
-#define FOC_PROBE_SPACING (FOC_PROBE_OFF_PERIODS + 4u)
+#define FOC_PROBE_TURN_AT_OVERSPEED                                            \
+    (FOC_DTHETA_AT_BASE * MOTOR_MAX_SPEED_RPM * (1.0 + OVERSPEED_MARGIN) / SPEED_BASE_RPM)
+#define FOC_PROBE_SPACING_D (16384.0 / FOC_PROBE_TURN_AT_OVERSPEED)
+#define FOC_PROBE_SPACING                                                      \
+    ((uint8_t)(FOC_PROBE_SPACING_D < 8.0 ? 8.0 : FOC_PROBE_SPACING_D > 64.0 ? 64.0 : FOC_PROBE_SPACING_D))
 #define FOC_PROBE_NOISE_CODES 6.0
 #define FOC_PROBE_NOISE_PU (FOC_PROBE_NOISE_CODES * 65536.0 / (double)(1L << BOARD_ADC_BITS))
 #define FOC_PROBE_MIN_CURRENT                                                  \
-    ((int32_t)(FOC_IREF_STEP_EMF_PU > FOC_PROBE_NOISE_PU ? FOC_IREF_STEP_EMF_PU \
-                                                          : FOC_PROBE_NOISE_PU))
+    ((int32_t)(FOC_IREF_STEP_EMF_PU * FOC_PROBE_SHORT_PERIODS > FOC_PROBE_NOISE_PU \
+                   ? FOC_IREF_STEP_EMF_PU * FOC_PROBE_SHORT_PERIODS                \
+                   : FOC_PROBE_NOISE_PU))
 #define FOC_PROBE_MIN_MAG2 ((FOC_PROBE_MIN_CURRENT * FOC_PROBE_MIN_CURRENT) >> 2)
 #define FOC_PROBE_SPEED_PER_ANGLE_PU (32768.0 / FOC_DTHETA_AT_BASE)
 #define FOC_PROBE_SPEED_MANT FOC_GAIN_MANT(FOC_PROBE_SPEED_PER_ANGLE_PU)

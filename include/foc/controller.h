@@ -166,8 +166,6 @@ typedef struct {
     foc_duty_t duty;        /* [fast] */
     uint8_t probe;          /* [fast] CATCH's probe: periods since the */
                             /* restart, 0 once done */
-    uint8_t probe_first;    /* [fast] which sample of the probe's first */
-                            /* short was kept (1, 2; 0: not yet) */
     uint8_t lprobe_req;     /* [slow] the inductance probe (ALIGN, CATCH) */
                             /* is wanted: FOC_LPROBE_GO (held until its */
                             /* result is read), below while its hold */
@@ -225,6 +223,8 @@ typedef struct {
     q15_t lprobe_peak;      /* [fast] the largest deviation of the current */
                             /* from its reference during the inductance */
                             /* probe (here: no padding) */
+    foc_dq_t lprobe_dip;    /* [fast] CATCH: that deviation's vector, and */
+    uint8_t lprobe_dip_k;   /* its period (0: taken) */
     struct foc_scope *scope; /* [init] NULL: none (debug outputs id, iq); */
                              /* the application attaches one after foc_init */
 } foc_ctrl_t;

@@ -48,13 +48,25 @@ void foc_port_read_samples(foc_samples_t *s);
  * period; `sector` lets a 3-shunt port choose its sampling phases. */
 void foc_port_set_duties(const foc_duty_t *d);
 
-/* Turns the bridge's PWM outputs on (duties as last set). */
+/* Turns the bridge's PWM outputs on from the next period boundary, where
+ * the duties set in this fast step take effect: turned on at once, the
+ * outputs would apply the period's old duties (a zero vector while off)
+ * to a turning rotor's back-EMF until then. */
 void foc_port_pwm_enable(void);
 
-/* Turns all six switches off at once (coast; diodes only). */
+/* CATCH's probe: turns the PWM outputs on (duties 1/2, the zero vector)
+ * half a PWM period after the sample that started this fast step, so
+ * that the windings are shorted for the half period before the next
+ * sample.  A port may wait for that instant here: the probe's fast step
+ * has nothing else to do. */
+void foc_port_pwm_enable_at_half(void);
+
+/* Turns all six switches off at once (coast; diodes only), not at the
+ * period boundary. */
 void foc_port_pwm_disable(void);
 
-/* Turns all three low sides on, high sides off (shorts the windings). */
+/* Turns all three low sides on, high sides off (shorts the windings), at
+ * once. */
 void foc_port_low_sides_on(void);
 
 /* Switches the bus brake resistor on (1) or off (0). */

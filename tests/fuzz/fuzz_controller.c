@@ -104,6 +104,11 @@ void foc_port_pwm_enable(void)
     }
 }
 
+void foc_port_pwm_enable_at_half(void)
+{
+    foc_port_pwm_enable();
+}
+
 void foc_port_pwm_disable(void)
 {
     port.bridge = BRIDGE_OFF;

@@ -71,6 +71,10 @@ void foc_port_pwm_enable(void)
 {
 }
 
+void foc_port_pwm_enable_at_half(void)
+{
+}
+
 void foc_port_pwm_disable(void)
 {
 }

@@ -636,10 +636,12 @@ static void oracle_step(oracle_t *o, const sim_t *s, const sim_row_t *r0, inject
     if (r->vdc_v <= 1.03 * UNDERVOLTAGE_V) o->last_uv_t = t;
     /* an over-current's cause: the hardware trip's level, or the current
      * vector beyond CURRENT_LIMIT_A as sensors with the plant's gain errors
-     * can read it (the firmware's own trip, a little above the limit: a
-     * current the loop no longer holds) */
+     * and 3 sigma of its noise can read it (the firmware's own trip, at the
+     * limit: a current the loop no longer holds) */
+    const double noise_a =
+        m->p.noise_codes * BOARD_CURRENT_FULL_SCALE_A / (double)(1L << (m->p.adc_bits - 1));
     if (fmax(ipk, ipk_span) >= 0.97 * BOARD_CURRENT_FULL_SCALE_A ||
-        imag * (1.0 + gain_max) >= CURRENT_LIMIT_A) {
+        imag * (1.0 + gain_max) + 3.0 * noise_a >= CURRENT_LIMIT_A) {
         o->last_oc_t = t;
     }
     /* the estimate far from the truth: a reason to trip, not yet a

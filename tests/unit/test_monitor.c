@@ -22,6 +22,7 @@
 void foc_port_read_samples(foc_samples_t *s) { (void)s; }
 void foc_port_set_duties(const foc_duty_t *d) { (void)d; }
 void foc_port_pwm_enable(void) {}
+void foc_port_pwm_enable_at_half(void) {}
 void foc_port_pwm_disable(void) {}
 void foc_port_low_sides_on(void) {}
 void foc_port_brake_resistor(uint8_t on) { (void)on; }

@@ -84,6 +84,7 @@ void __real_foc_cmd_speed(foc_ctrl_t *c, q15_t speed);
 void __real_foc_port_read_samples(foc_samples_t *s);
 void __real_foc_port_set_duties(const foc_duty_t *d);
 void __real_foc_port_pwm_enable(void);
+void __real_foc_port_pwm_enable_at_half(void);
 void __real_foc_port_pwm_disable(void);
 void __real_foc_port_low_sides_on(void);
 void __real_foc_port_brake_resistor(uint8_t on);
@@ -100,6 +101,7 @@ void __wrap_foc_cmd_speed(foc_ctrl_t *c, q15_t speed);
 void __wrap_foc_port_read_samples(foc_samples_t *s);
 void __wrap_foc_port_set_duties(const foc_duty_t *d);
 void __wrap_foc_port_pwm_enable(void);
+void __wrap_foc_port_pwm_enable_at_half(void);
 void __wrap_foc_port_pwm_disable(void);
 void __wrap_foc_port_low_sides_on(void);
 void __wrap_foc_port_brake_resistor(uint8_t on);
@@ -196,6 +198,12 @@ void __wrap_foc_port_pwm_enable(void)
 {
     bench_port_pwm_enable(&rec.port);
     __real_foc_port_pwm_enable();
+}
+
+void __wrap_foc_port_pwm_enable_at_half(void)
+{
+    bench_port_pwm_enable(&rec.port);
+    __real_foc_port_pwm_enable_at_half();
 }
 
 void __wrap_foc_port_pwm_disable(void)

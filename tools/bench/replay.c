@@ -26,6 +26,11 @@ void foc_port_pwm_enable(void)
     bench_port_pwm_enable(&port);
 }
 
+void foc_port_pwm_enable_at_half(void)
+{
+    bench_port_pwm_enable(&port);
+}
+
 void foc_port_pwm_disable(void)
 {
     bench_port_pwm_disable(&port);

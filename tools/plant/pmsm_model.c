@@ -1095,6 +1095,7 @@ void pmsm_init(pmsm_model_t *m, const pmsm_params_t *p)
     m->s.vdc_v = p->vdc_source_v;
     m->bridge = PMSM_BRIDGE_OFF;
     m->bridge_next = PMSM_BRIDGE_OFF;
+    m->bridge_at_s = -1.0;
     for (int ph = 0; ph < PHASES; ph++) {
         m->duty[ph] = 0.5;
         m->duty_next[ph] = 0.5;
@@ -1113,6 +1114,22 @@ void pmsm_set_duties(pmsm_model_t *m, double da, double db, double dc)
 void pmsm_set_bridge(pmsm_model_t *m, pmsm_bridge_t mode)
 {
     m->bridge_next = mode;
+}
+
+void pmsm_set_bridge_now(pmsm_model_t *m, pmsm_bridge_t mode)
+{
+    m->bridge = mode;
+    m->bridge_next = mode;
+    m->bridge_at_s = -1.0;
+}
+
+void pmsm_set_bridge_at(pmsm_model_t *m, pmsm_bridge_t mode, double at_s)
+{
+    m->bridge_next = mode;
+    if (at_s < 1.0 / m->p.pwm_hz) {
+        m->bridge_at_s = at_s;
+        m->bridge_at_mode = mode;
+    }
 }
 
 /* Records the phase currents of state x in the extremes since the last
@@ -1234,8 +1251,9 @@ static void integrate_switched(pmsm_model_t *m, integ_t *c, double x[X_COUNT], d
         note_extremes(m, c, x);
     }
 }
-/* Integrates the present period from period_pos_s to t_end_s into it. */
-static void advance_to(pmsm_model_t *m, double t_end_s)
+/* Integrates the present period from period_pos_s to t_end_s into it,
+ * with the bridge of the whole span. */
+static void advance_span(pmsm_model_t *m, double t_end_s)
 {
     const double t0_s = m->period_pos_s;
     if (!(t_end_s > t0_s)) {
@@ -1259,6 +1277,18 @@ static void advance_to(pmsm_model_t *m, double t_end_s)
     m->vd_int_vs = x[X_VD_INT];
     m->vq_int_vs = x[X_VQ_INT];
     m->period_pos_s = t_end_s;
+}
+
+/* Integrates the present period from period_pos_s to t_end_s into it; a
+ * bridge switch set within it (pmsm_set_bridge_at) splits the span. */
+static void advance_to(pmsm_model_t *m, double t_end_s)
+{
+    if (m->bridge_at_s >= 0.0 && m->bridge_at_s < t_end_s) {
+        advance_span(m, m->bridge_at_s);
+        m->bridge = m->bridge_at_mode;
+        m->bridge_at_s = -1.0;
+    }
+    advance_span(m, t_end_s);
 }
 
 /* First-order thermal model of the winding (one node, ambient constant):

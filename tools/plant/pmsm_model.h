@@ -182,6 +182,9 @@ typedef struct {
     pmsm_state_t s;
     pmsm_bridge_t bridge;       /* applied this period */
     pmsm_bridge_t bridge_next;  /* latched for the next period */
+    pmsm_bridge_t bridge_at_mode; /* a switch within the present period */
+    double bridge_at_s;         /* (pmsm_set_bridge_at): its time into the */
+                                /* period, s; < 0 none */
     double duty[3];             /* applied this period, [0, 1] */
     double duty_next[3];
     pmsm_rotor_mode_t rotor;
@@ -219,6 +222,16 @@ void pmsm_init(pmsm_model_t *m, const pmsm_params_t *p);
  * period. */
 void pmsm_set_duties(pmsm_model_t *m, double da, double db, double dc);
 void pmsm_set_bridge(pmsm_model_t *m, pmsm_bridge_t mode);
+
+/* The bridge switches to `mode` at once, for the rest of the present
+ * period and after (the ports' turn-off: MOE or OVDCON, not latched at the
+ * period boundary). */
+void pmsm_set_bridge_now(pmsm_model_t *m, pmsm_bridge_t mode);
+
+/* The bridge switches to `mode` at at_s into the present period (a time
+ * after period_pos_s), or at the period boundary when at_s is not before
+ * the period's end; it stays so after. */
+void pmsm_set_bridge_at(pmsm_model_t *m, pmsm_bridge_t mode, double at_s);
 
 /* Samples currents/bus at the present instant (the period start, or the
  * sampling instant after pmsm_run_to_sample).  Each call draws fresh
