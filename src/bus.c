@@ -4,7 +4,7 @@
 #define COMP_ONE_Q14 ((int32_t)16384)
 #define COMP_MAX_Q14 ((int32_t)32767) /* 2.0: the bus at half its nominal value */
 
-void foc_bus_derive(foc_bus_t *bus)
+static void derive_limits(foc_bus_t *bus)
 {
     const q15_t vdc = foc_lpf_out(&bus->vdc);
     /* comp = nominal / vdc, Q14; a bus below half nominal saturates it (the
@@ -28,6 +28,12 @@ void foc_bus_derive(foc_bus_t *bus)
 void foc_bus_init(foc_bus_t *bus, q15_t vdc)
 {
     foc_lpf_init(&bus->vdc, vdc);
-    foc_bus_derive(bus);
-    bus->period = 0u;
+    derive_limits(bus);
+}
+
+void foc_bus_update(foc_bus_t *bus, q15_t vdc)
+{
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    (void)foc_lpf_step(&bus->vdc, vdc, FOC_VDC_FILTER_K);
+    derive_limits(bus);
 }

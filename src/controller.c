@@ -579,7 +579,7 @@ FOC_COLD static uint8_t catch_probe(foc_ctrl_t *c)
 void foc_fast_step(foc_ctrl_t *c)
 {
     foc_port_read_samples(&c->samples);
-    foc_bus_update(&c->bus, c->samples.vdc);
+    foc_bus_check_step(&c->bus, c->samples.vdc);
     if (foc_port_overcurrent_latched() != 0u) {
         /* First, before any posted restart could enable the bridge again.
          * Once: the trip time starts the minimum time before an ack. */
@@ -1355,6 +1355,7 @@ static void state_machine(foc_ctrl_t *c)
 
 void foc_slow_step(foc_ctrl_t *c)
 {
+    foc_bus_update(&c->bus, c->samples.vdc);
     if (c->state_ticks < UINT16_MAX) {
         c->state_ticks++;
     }

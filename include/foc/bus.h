@@ -10,13 +10,16 @@
  * Above the nominal bus the extra voltage is not used (the per-unit range
  * ends at 1.0).
  *
- * The fast step owns it: every CONTROL_SLOW_DIVIDER periods (a slow tick)
- * it filters one sample and takes the reciprocal (one division); a sample
- * more than 1/16 off the filtered bus (a step: a supply switched, a
- * contactor, a regenerating load let go) restarts the filter there at
- * once.  Filtered on the slow tick only, a step from 16.9 to 24 V at the
- * drone's maximum speed gave the winding 1.4 x the voltage asked for a
- * millisecond and the current 1.08 x the limit (campaign seed 146).
+ * The slow tick filters one sample and takes the reciprocal (one
+ * division); the fast step checks every sample against the filtered bus,
+ * and one more than 1/16 off (a step: a supply switched, a contactor, a
+ * regenerating load let go) restarts the filter there and derives the
+ * limits at once.  Filtered on the slow tick only, a step from 16.9 to
+ * 24 V at the drone's maximum speed gave the winding 1.4 x the voltage
+ * asked for a millisecond and the current 1.08 x the limit (campaign seed
+ * 146).  (A slow tick the fast step preempts may write its older figures
+ * after the restart's: the step is still there at the next period, which
+ * restarts again.)
  */
 #ifndef FOC_BUS_H
 #define FOC_BUS_H
@@ -29,34 +32,23 @@ typedef struct {
     foc_lpf_q15_t vdc;  /* filtered bus, Q15 of BOARD_VDC_FULL_SCALE_V */
     q15_t v_max;        /* |Vdq| limit, Q15 of the voltage base */
     int16_t comp_q14;   /* Vdc_nominal / Vdc, Q14, in [0.5, 2] */
-    uint8_t period;     /* periods since the last filtered sample */
 } foc_bus_t;
 
 /* Starts the filter at `vdc` (Q15 of the bus full scale, >= 0) and
  * derives v_max and comp_q14 from it. */
 void foc_bus_init(foc_bus_t *bus, q15_t vdc);
 
-/* v_max and comp_q14 from the filtered bus (one division). */
-void foc_bus_derive(foc_bus_t *bus);
+/* Slow tick: filters one bus sample, updates v_max and comp_q14. */
+void foc_bus_update(foc_bus_t *bus, q15_t vdc);
 
-/* Fast step, every period: a bus sample (>= 0) into the filter once a
- * slow tick, or a step's at once (the filter restarted at it); v_max and
- * comp_q14 derived from the filter after either. */
-static inline void foc_bus_update(foc_bus_t *bus, q15_t vdc)
+/* Fast step: a sample (>= 0) more than 1/16 off the filtered bus restarts
+ * the filter there (foc_bus_init). */
+static inline void foc_bus_check_step(foc_bus_t *bus, q15_t vdc)
 {
-    const q15_t was = foc_lpf_out(&bus->vdc);
-    const int32_t step = (int32_t)vdc - was;
-    if (step * 16 > was || step * 16 < -was) {
-        foc_lpf_init(&bus->vdc, vdc);
-        foc_bus_derive(bus);
-        bus->period = 1u;
-    } else if (bus->period == 0u) {
-        /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
-        (void)foc_lpf_step(&bus->vdc, vdc, FOC_VDC_FILTER_K);
-        foc_bus_derive(bus);
-        bus->period = 1u;
-    } else {
-        bus->period = (bus->period + 1u >= (uint8_t)CONTROL_SLOW_DIVIDER) ? 0u : (uint8_t)(bus->period + 1u);
+    const int32_t was = foc_lpf_out(&bus->vdc);
+    const int32_t step = ((int32_t)vdc - was) * 16;
+    if (step > was || step < -was) {
+        foc_bus_init(bus, vdc);
     }
 }
 

@@ -659,12 +659,12 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
 /* -------------------------------------------------------------- bus -- */
 /* Nominal bus in bus-ADC counts; the modulation compensation is
  * Vdc_nominal / Vdc_measured in Q14 (up to 2.0), from the bus filtered
- * over 2 slow ticks, a step taken at once (bus.h): a bus that steps (a
- * supply switched, a surge) must be compensated at once, or the bridge
- * applies the step's ratio of what the current loop asks (a 20 % step
- * with a 10 ms filter left the current 10 % above the limit; 42 % with
- * only the 2 slow ticks' filter, 1.08 x at the drone's maximum speed);
- * the ADC's noise on one sample is a few counts of thousands. */
+ * over 2 slow ticks, a step taken at once by the fast step (bus.h): a bus
+ * that steps (a supply switched, a surge) must be compensated at once, or
+ * the bridge applies the step's ratio of what the current loop asks (a
+ * 20 % step with a 10 ms filter left the current 10 % above the limit;
+ * 42 % with only the 2 slow ticks' filter, 1.08 x at the drone's maximum
+ * speed); the ADC's noise on one sample is a few counts of thousands. */
 #define FOC_VDC_NOMINAL FOC_VDC_Q15(BOARD_VDC_NOMINAL_V)
 #define FOC_VDC_FILTER_K Q15(0.5)
 

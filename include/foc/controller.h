@@ -183,8 +183,8 @@ typedef struct {
     foc_current_ctrl_t current_ctrl;   /* [fast] (gains [init]) */
     foc_speed_ctrl_t speed_ctrl;       /* [slow] */
     foc_fw_t fw;                       /* [slow] */
-    foc_bus_t bus;                     /* [fast]; v_max is 16-bit, read */
-                                       /* by the slow step */
+    foc_bus_t bus;                     /* [slow], and [fast] on a step */
+                                       /* (bus.h); 16-bit fields */
     foc_estimator_t est;               /* [fast]; [slow] sets the field- */
                                        /* weakening constants (16-bit) */
                                        /* and owns the PLL's flux tracking */
