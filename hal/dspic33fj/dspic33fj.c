@@ -351,8 +351,7 @@ void foc_port_pwm_enable(void)
 /* The bottom is also half a period after the sample. */
 void foc_port_pwm_enable_at_half(void)
 {
-    wait_for_bottom();
-    dspic_pwm_enable(&cfg);
+    foc_port_pwm_enable();
 }
 
 void foc_port_pwm_disable(void)

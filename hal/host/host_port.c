@@ -54,8 +54,7 @@ static q15_t unipolar_to_q15(double fraction)
 static void latch_overcurrent(void)
 {
     port.overcurrent_latch = 1;
-    port.pwm_enabled = 0;
-    pmsm_set_bridge_now(port.model, PMSM_BRIDGE_OFF);
+    foc_port_pwm_disable();
 }
 
 void foc_port_read_samples(foc_samples_t *s)
