@@ -136,10 +136,12 @@ static void reset_run_state(foc_ctrl_t *c)
 
 void foc_init(foc_ctrl_t *c)
 {
-    c->req.start = 0;
-    c->req.stop = 0;
-    c->req.ack = 0;
-    c->req.commission = 0;
+    c->req.asked.start = 0;
+    c->req.asked.stop = 0;
+    c->req.asked.ack = 0;
+    c->req.asked.commission = 0;
+    c->seen = c->req.asked;
+    c->pending = c->req.asked;
     c->req.speed = 0;
     c->opt.stop_mode = STOP_MODE;
     c->opt.open_loop_only = OPEN_LOOP_ONLY;
@@ -1165,7 +1167,7 @@ static void run_tick(foc_ctrl_t *c)
             foc_est_set_rs(&c->est, rs);
         }
     }
-    if (c->state == FOC_STATE_RUN && c->req.stop != 0u) {
+    if (c->state == FOC_STATE_RUN && c->pending.stop != 0u) {
         c->comm.step = (uint8_t)FOC_COMM_STEP_NONE; /* MECH abandoned */
         stop_or_brake(c);
     }
@@ -1204,7 +1206,7 @@ static void fault_tick(foc_ctrl_t *c)
     if (c->shorting == 0u) {
         outputs_off(c);
     }
-    if (c->req.ack == 0u || c->state_ticks < FOC_ACK_MIN_TICKS) {
+    if (c->pending.ack == 0u || c->state_ticks < FOC_ACK_MIN_TICKS) {
         return;
     }
     foc_port_overcurrent_clear();
@@ -1275,13 +1277,13 @@ static void state_machine(foc_ctrl_t *c)
     }
     switch (c->state) {
     case FOC_STATE_IDLE:
-        if (c->req.commission != 0u) {
+        if (c->pending.commission != 0u) {
             foc_cs_calib_start(&c->current_sense, FOC_COMM_CALIB_PERIODS_LOG2);
             outputs_off(c);
             reset_run_state(c);
             foc_comm_begin(&c->comm);
             enter(c, FOC_STATE_COMMISSION);
-        } else if (c->req.start != 0u) {
+        } else if (c->pending.start != 0u) {
             foc_cs_calib_start(&c->current_sense, FOC_CALIB_PERIODS_LOG2);
             outputs_off(c);
             c->start_ticks = 0;
@@ -1291,7 +1293,7 @@ static void state_machine(foc_ctrl_t *c)
         }
         break;
     case FOC_STATE_CALIB:
-        if (c->req.stop != 0u) {
+        if (c->pending.stop != 0u) {
             enter(c, FOC_STATE_IDLE);
         } else if (c->current_sense.calibrated != 0u && c->state_ticks >= FOC_CALIB_TICKS) { /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
             begin_start(c);
@@ -1302,7 +1304,7 @@ static void state_machine(foc_ctrl_t *c)
     case FOC_STATE_CATCH:
     case FOC_STATE_ALIGN:
     case FOC_STATE_OPENLOOP:
-        if (c->req.stop != 0u) {
+        if (c->pending.stop != 0u) {
             to_idle(c);
         } else if (c->state == FOC_STATE_CATCH) {
             catch_tick(c);
@@ -1336,7 +1338,7 @@ static void state_machine(foc_ctrl_t *c)
         brake_tick(c);
         break;
     case FOC_STATE_COMMISSION:
-        if (c->req.stop != 0u) {
+        if (c->pending.stop != 0u) {
             to_idle(c);
         } else {
             commission_tick(c);
@@ -1346,15 +1348,23 @@ static void state_machine(foc_ctrl_t *c)
         fault_tick(c);
         break;
     }
-    /* Requests are one-shot: anything not acted on now is dropped. */
-    c->req.start = 0;
-    c->req.stop = 0;
-    c->req.ack = 0;
-    c->req.commission = 0;
+}
+
+/* Each count read once: a request is pending for one tick, then dropped
+ * if the state had no use for it. */
+static uint8_t take_request(uint8_t asked, uint8_t *seen)
+{
+    const uint8_t moved = (uint8_t)(asked != *seen);
+    *seen = asked;
+    return moved;
 }
 
 void foc_slow_step(foc_ctrl_t *c)
 {
+    c->pending.start = take_request(c->req.asked.start, &c->seen.start);
+    c->pending.stop = take_request(c->req.asked.stop, &c->seen.stop);
+    c->pending.ack = take_request(c->req.asked.ack, &c->seen.ack);
+    c->pending.commission = take_request(c->req.asked.commission, &c->seen.commission);
     foc_bus_update(&c->bus, c->samples.vdc);
     if (c->state_ticks < UINT16_MAX) {
         c->state_ticks++;
@@ -1389,22 +1399,22 @@ void foc_slow_step(foc_ctrl_t *c)
 
 void foc_cmd_start(foc_ctrl_t *c)
 {
-    c->req.start = 1;
+    c->req.asked.start = (uint8_t)(c->req.asked.start + 1u);
 }
 
 void foc_cmd_stop(foc_ctrl_t *c)
 {
-    c->req.stop = 1;
+    c->req.asked.stop = (uint8_t)(c->req.asked.stop + 1u);
 }
 
 void foc_cmd_ack(foc_ctrl_t *c)
 {
-    c->req.ack = 1;
+    c->req.asked.ack = (uint8_t)(c->req.asked.ack + 1u);
 }
 
 void foc_cmd_commission(foc_ctrl_t *c)
 {
-    c->req.commission = 1;
+    c->req.asked.commission = (uint8_t)(c->req.asked.commission + 1u);
 }
 
 void foc_cmd_speed(foc_ctrl_t *c, q15_t speed)

@@ -106,13 +106,22 @@ typedef enum {
                        /* first (controller.c, catch_probe) */
 } foc_post_t;
 
-/* Requests from the application, consumed by the slow step [cmd]. */
+/* One-shot requests, counted: each foc_cmd_*() call adds one to its count
+ * [cmd], and the slow step acts on a count that moved since its last tick.
+ * The slow step never writes a count, so a request made while it runs (a
+ * command from an interrupt that preempts it) is taken at the next tick
+ * instead of being cleared unseen. */
 typedef struct {
     uint8_t start;
     uint8_t stop;
     uint8_t ack;
     uint8_t commission; /* IDLE: measure the motor (commission.h) */
-    q15_t speed;      /* speed command, Q15 of SPEED_BASE_RPM, signed */
+} foc_oneshots_t;
+
+/* Requests from the application [cmd]. */
+typedef struct {
+    foc_oneshots_t asked; /* counts, modulo 256 */
+    q15_t speed;          /* speed command, Q15 of SPEED_BASE_RPM, signed */
 } foc_requests_t;
 
 /* Operating options, from userparms.h at foc_init; changeable in IDLE. */
@@ -138,7 +147,9 @@ typedef struct {
     foc_faults_t faults;    /* [slow], [fast] on an over-current: */
                             /* raised in the same period, the slow step */
                             /* merges and clears only in FAULT */
-    foc_requests_t req;     /* [cmd]; the slow step clears the one-shots */
+    foc_requests_t req;     /* [cmd] */
+    foc_oneshots_t seen;    /* [slow] req.asked at the last tick */
+    foc_oneshots_t pending; /* [slow] 1: asked since the tick before */
     foc_options_t opt;      /* [init] (changeable in IDLE) */
     uint8_t post;           /* foc_post_t: [slow] sets, [fast] clears */
     uint8_t post_on_sensor; /* [slow] RESTART: run on the sensor */

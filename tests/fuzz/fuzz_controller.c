@@ -370,7 +370,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             }
 
             if (period % CONTROL_SLOW_DIVIDER == 0u) {
-                const int ack = c->req.ack != 0u;
+                const int ack = c->req.asked.ack != c->seen.ack;
                 const int was_fault = c->state == FOC_STATE_FAULT;
                 before = c->faults.active;
                 foc_slow_step(c);
