@@ -68,7 +68,7 @@ flying-start: build
 # bridge until the realistic plant's open findings are fixed: docs/safety.md)
 # and the findings
 check-torture: build
-	python3 tools/torture.py --bin $(BUILD)/torture --seed 1 --runs 200 --plant averaged --jobs $(JOBS)
+	python3 tools/torture.py --bin $(BUILD)/torture --seed 1 --runs 200 --jobs $(JOBS)
 	python3 tools/torture.py --bin $(BUILD)/torture --regress tests/torture/regress
 
 # The core alone, cross-compiled as the STM32 image will compile it.

@@ -25,7 +25,18 @@ uint8_t foc_startup_align_tick(foc_startup_t *s)
     /* second half: on to the start angle, turned over its first twelfth
      * rather than in one step (a 90-degree jump of a current vector
      * overshoots the current; Shinano's 12 starts: peak 2.18 A with the
-     * jump, 2.05 A turned, for a 2.1 A limit) */
+     * jump, 2.05 A turned, for a 2.1 A limit), with the current back to
+     * half, ramped up again at four times the first half's rate: a rotor
+     * friction held at the first position's dead point swings a quarter
+     * turn when the vector turns, with kinetic energy in proportion to the
+     * current (campaign seed 109: the Shinano at 0.27 x its inertia and
+     * 0.53 x its inductance swung to 970 rpm at the full current, 1.06 x
+     * the limit; 0.95 x now).  Half, not less: a heavy rotor still turning
+     * when the alignment began (the fan reversed, regress/11) must still
+     * be caught on the start angle. */
+    s->current = (s->ticks == FOC_ALIGN_HALF_TICKS + 1u)
+                     ? FOC_ALIGN_CURRENT / 2
+                     : foc_slew_q15(s->current, FOC_ALIGN_CURRENT, FOC_ALIGN_RERAMP_STEP);
     const int32_t pos = (int32_t)s->theta32; /* signed: -90 .. +90 deg */
     if (pos > FOC_ALIGN_TURN_STEP32) {
         /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
@@ -36,7 +47,6 @@ uint8_t foc_startup_align_tick(foc_startup_t *s)
     } else {
         s->theta32 = 0;
     }
-    s->current = FOC_ALIGN_CURRENT;
     if (s->ticks < 2u * FOC_ALIGN_HALF_TICKS) {
         return 0;
     }

@@ -86,7 +86,7 @@ uint16_t foc_sup_follow(foc_supervision_t *s, q15_t command, q15_t speed, q15_t 
     s->follow_ticks = 0;
     s->follow_sum = 0;
     s->follow_last = mean;
-    const int32_t progress = fast ? (int32_t)FOC_FOLLOW_PROGRESS_FAST : (int32_t)FOC_FOLLOW_PROGRESS_SLOW;
+    const int32_t progress = fast ? (int32_t)FOC_FOLLOW_TRIP_FAST : (int32_t)FOC_FOLLOW_TRIP_SLOW;
     /* gaining: the speed moved toward the command's direction (a heavy
      * load accelerating), however far the command is and wherever it
      * moved meanwhile */

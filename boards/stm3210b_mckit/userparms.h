@@ -186,9 +186,11 @@
 
 /* ------------------------------------------------------------- start-up -- */
 /* ALIGN: the current rises to STARTUP_ALIGN_CURRENT_A in a first half of
- * STARTUP_ALIGN_TIME_S at 90 degrees before the start angle, then holds it
- * at the start angle for the second half (two positions, so a rotor 180
- * degrees away still feels torque).  OPENLOOP: the forced angle accelerates
+ * STARTUP_ALIGN_TIME_S at 90 degrees before the start angle, then at the
+ * start angle for the second half (two positions, so a rotor 180 degrees
+ * away still feels torque) from half of it back to the whole in an eighth
+ * of that half (a rotor left at the first position's dead point swings
+ * with energy in proportion to the current).  OPENLOOP: the forced angle accelerates
  * to STARTUP_FINAL_SPEED_RPM in STARTUP_RAMP_TIME_S with a current ramped
  * from STARTUP_CURRENT_FIRST_A to STARTUP_CURRENT_FINAL_A; the estimator runs
  * alongside.  Hand-over to RUN only when the estimator has converged: for

@@ -7,7 +7,8 @@
  * lagging by the load angle (torque = Kt I sin(lag)).
  *
  * ALIGN, first half: the current rises from 0 at 90 degrees before the start
- * angle; second half: it holds at the start angle.  OPENLOOP: the forced
+ * angle; second half: at the start angle, from half the current back to
+ * the whole at four times the first half's rate, then held.  OPENLOOP: the forced
  * speed rises by a fixed step per slow tick (no division anywhere, so no
  * division by zero at ramp start) to the final start-up speed in the
  * commanded direction, the current moves from the first to the final

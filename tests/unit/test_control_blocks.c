@@ -269,7 +269,12 @@ static void case_startup_sequence(void)
         const unsigned half = (unsigned)lround(0.5 * STARTUP_ALIGN_TIME_S / tick_s);
         unsigned ticks = 0;
         q15_t prev = 0;
-        double i_quarter = -1.0, i_half = -1.0, i_second = -1.0;
+        /* the second half: half the current on its first tick, then four
+         * times the first half's rise (3/4 of it a sixteenth of a half
+         * later, to the tick), the full current from an eighth on */
+        const unsigned sixteenth = (unsigned)lround(0.03125 * STARTUP_ALIGN_TIME_S / tick_s);
+        const unsigned three_quarters = (unsigned)lround(0.75 * STARTUP_ALIGN_TIME_S / tick_s);
+        double i_quarter = -1.0, i_half = -1.0, i_second = -1.0, i_sixteenth = -1.0, i_late = -1.0;
         uint8_t done = 0;
         while (!done && ticks < 100000u) {
             done = foc_startup_align_tick(&s);
@@ -278,7 +283,9 @@ static void case_startup_sequence(void)
             prev = s.current;
             i_quarter = (ticks == quarter) ? s.current * amp_per_count : i_quarter;
             i_half = (ticks == half) ? s.current * amp_per_count : i_half;
-            i_second = (ticks == half + 2u) ? s.current * amp_per_count : i_second;
+            i_second = (ticks == half + 1u) ? s.current * amp_per_count : i_second;
+            i_sixteenth = (ticks == half + 1u + sixteenth) ? s.current * amp_per_count : i_sixteenth;
+            i_late = (ticks == three_quarters) ? s.current * amp_per_count : i_late;
         }
         TK_CHECK(fabs(ticks * tick_s - STARTUP_ALIGN_TIME_S) <= tick_s,
                  "alignment %u ticks = %.4f s, want %.4f s", ticks, ticks * tick_s,
@@ -289,8 +296,16 @@ static void case_startup_sequence(void)
                  0.5 * STARTUP_ALIGN_CURRENT_A);
         TK_CHECK(fabs(i_half - STARTUP_ALIGN_CURRENT_A) <= 0.01 * STARTUP_ALIGN_CURRENT_A,
                  "align current at half %.4f A, want %.4f A", i_half, STARTUP_ALIGN_CURRENT_A);
-        TK_CHECK(fabs(i_second - STARTUP_ALIGN_CURRENT_A) <= amp_per_count,
-                 "align current in the second half %.4f A, want %.4f A", i_second,
+        TK_CHECK(fabs(i_second - 0.5 * STARTUP_ALIGN_CURRENT_A) <= amp_per_count,
+                 "align current at the second half's start %.4f A, want %.4f A", i_second,
+                 0.5 * STARTUP_ALIGN_CURRENT_A);
+        const double want_sixteenth = STARTUP_ALIGN_CURRENT_A *
+                                      (0.5 + 4.0 * sixteenth * tick_s / (0.5 * STARTUP_ALIGN_TIME_S));
+        TK_CHECK(fabs(i_sixteenth - want_sixteenth) <= 0.01 * STARTUP_ALIGN_CURRENT_A,
+                 "align current a sixteenth into the second half %.4f A, want %.4f A", i_sixteenth,
+                 want_sixteenth);
+        TK_CHECK(fabs(i_late - STARTUP_ALIGN_CURRENT_A) <= amp_per_count,
+                 "align current at three quarters %.4f A, want %.4f A", i_late,
                  STARTUP_ALIGN_CURRENT_A);
         TK_CHECK(foc_startup_angle(&s) == 0u, "aligned at 0");
         TK_CHECK(fabs(s.current * amp_per_count - STARTUP_CURRENT_FIRST_A) <= amp_per_count,
@@ -661,7 +676,7 @@ static void case_deadtime_error(void)
 
 /* The follow check on the speed, not on the distance to the command: a
  * rotor gaining slowly at the current limit (the progress per window) is
- * not a stall, even when the command moves farther away within a window
+ * not a stall, one gaining less than 3/4 of it is, even when the command moves farther away within a window
  * (the distance then grows: a fan accelerating at 122 rpm/s tripped
  * SPEED_FEEDBACK on a new command); a rotor that does not gain trips after
  * two windows whatever the command does; both directions.  On the fast
@@ -696,14 +711,17 @@ static uint16_t follow_run(int dir, int gain_per_window, int command_step, unsig
 
 static void case_follow_check(void)
 {
-    const int gain = FOC_FOLLOW_PROGRESS_FAST + 1;
+    /* the policy's progress per fast window in speed counts (rounded
+     * down), and the trip below three quarters of it (config.h) */
+    const int gain = (int)(FOC_FOLLOW_PROGRESS_RPM(FOC_FOLLOW_FAST_S) * 32768.0 / SPEED_BASE_RPM);
+    const int short_of_trip = (int)(0.75 * gain) - 1;
     const int closer = FOC_FOLLOW_SPEED_SPLIT / 16; /* 6 windows: still above 8/7 x 10 */
     for (int dir = -1; dir <= 1; dir += 2) {
         TK_CHECK(follow_run(dir, gain, 0, 6, 1) == 0u, "dir %d: gaining, fixed command", dir);
         TK_CHECK(follow_run(dir, gain, 4 * gain, 6, 1) == 0u,
                  "dir %d: gaining, the command moving away", dir);
-        TK_CHECK(follow_run(dir, gain - 2, 0, 6, 1) == (uint16_t)FOC_FAULT_SPEED_FEEDBACK,
-                 "dir %d: gaining less than the progress, fixed command", dir);
+        TK_CHECK(follow_run(dir, short_of_trip, 0, 6, 1) == (uint16_t)FOC_FAULT_SPEED_FEEDBACK,
+                 "dir %d: gaining less than 3/4 of the progress, fixed command", dir);
         for (int fast = 0; fast <= 1; fast++) {
             TK_CHECK(follow_run(dir, 0, 0, 6, fast) == (uint16_t)FOC_FAULT_SPEED_FEEDBACK,
                      "dir %d, fast %d: stalled, fixed command", dir, fast);
