@@ -371,9 +371,13 @@ static void case_stall_detected_mismatch(void) { stall_detected(1, 0.010); }
 
 /* 10 s of speed steps 500 <-> 3000 rpm, load steps 0 <-> 0.05 Nm and a
  * reversal 1000 -> -1000 rpm: no fault, and the speeds are reached (the
- * mean over the 50 ms before each check within `tol` of the command, or,
+ * mean over the 150 ms before each check within `tol` of the command, or,
  * where the closed form says the voltage runs out first, within
- * `tol_limited` of that speed: the mismatch at 3000 rpm with 0.05 Nm). */
+ * `tol_limited` of that speed: the mismatch at 3000 rpm with 0.05 Nm).
+ * 150 ms: on the board's dead time the unloaded rotor hunts at 500 rpm
+ * (+-18 rpm, about 70 ms a cycle: docs/estimators.md), so a 50 ms mean
+ * measured the hunt's phase (0.08 % to 0.24 % off as the start-up moved
+ * it by a few ms), not the speed reached. */
 static void no_false_trip(int mm, double tol, double tol_limited)
 {
     run_t r;
@@ -388,7 +392,7 @@ static void no_false_trip(int mm, double tol, double tol_limited)
     const plant_t p = plant_of(mm);
     double worst = 0.0, worst_limited = 0.0;
     for (size_t i = 0; i < sizeof checks / sizeof checks[0]; i++) {
-        const double v = run_mean_speed(&r, checks[i][0] - 0.05, checks[i][0]);
+        const double v = run_mean_speed(&r, checks[i][0] - 0.15, checks[i][0]);
         const double want = reachable_rpm(&p, checks[i][1], checks[i][2]);
         const int limited = want != checks[i][1];
         const double off = fabs(v - want) / fabs(want);
@@ -412,10 +416,11 @@ static void no_false_trip(int mm, double tol, double tol_limited)
     run_free(&r);
 }
 
-/* Measured: 0.022 % at worst (the limit was 2 %); on the mismatch 0.50 %,
- * and 2.32 % off the closed form where the voltage runs out. */
+/* Measured (150 ms means): 0.030 % at worst (the limit was 2 %); on the
+ * mismatch 0.049 %, and 2.33 % off the closed form where the voltage runs
+ * out. */
 static void case_no_false_trip(void) { no_false_trip(0, 0.001, 0.001); }
-static void case_no_false_trip_mismatch(void) { no_false_trip(1, 0.02, 0.08); }
+static void case_no_false_trip_mismatch(void) { no_false_trip(1, 0.002, 0.08); }
 
 /* One fault class: trips (name, outputs off within `off_within_s`), stays
  * latched while the cause lasts and until `ack`, then the motor restarts
