@@ -64,8 +64,8 @@ torture-regress: build
 flying-start: build
 	python3 tools/flying_start.py --bin $(BUILD)/torture --jobs $(JOBS)
 
-# make check's part: the short seeded campaign (seeds 1..200, on the averaged
-# bridge until the realistic plant's open findings are fixed: docs/safety.md)
+# make check's part: the short seeded campaign (seeds 1..200, on the
+# realistic plant: docs/safety.md)
 # and the findings
 check-torture: build
 	python3 tools/torture.py --bin $(BUILD)/torture --seed 1 --runs 200 --jobs $(JOBS)
