@@ -44,8 +44,11 @@ static const char *plant_name(int mm)
 /* 12 rotor angles x loads {0, 0.02, 0.05} Nm x inertia {1, 5} x default:
  * every start reaches RUN and then the commanded 1000 rpm (the mean over
  * 1.4-1.6 s within `speed_dev_max` rpm), within `t_run_max` s, with
- * estimator `est`. */
-static void startup_matrix(foc_est_kind_t est, int mm, double speed_dev_max, double t_run_max)
+ * estimator `est`; on `plant realistic` (issue 13's set: the switched
+ * bridge, the board's sampling instant, noise, sensor gains, EMF
+ * harmonics) where `realistic`, on top of the mismatch where both. */
+static void startup_matrix_on(foc_est_kind_t est, int mm, int realistic, double speed_dev_max,
+                              double t_run_max)
 {
     const double loads[] = { 0.0, 0.02, 0.05 };
     const double inertias[] = { 1.0, 5.0 };
@@ -57,8 +60,9 @@ static void startup_matrix(foc_est_kind_t est, int mm, double speed_dev_max, dou
             for (int a = 0; a < 360; a += 30) {
                 char text[256];
                 snprintf(text, sizeof text,
-                         "0 plant j %g\n0 angle %d\n0 load %g\n0 start\n0 speed 1000\n1.6 end\n",
-                         inertias[j] * MOTOR_INERTIA_KGM2, a, loads[l]);
+                         "%s0 plant j %g\n0 angle %d\n0 load %g\n0 start\n0 speed 1000\n1.6 end\n",
+                         realistic ? "0 plant realistic\n" : "", inertias[j] * MOTOR_INERTIA_KGM2, a,
+                         loads[l]);
                 run_t r;
                 run_est(text, mm, est, &r);
                 const double t_run = run_first_state(&r, 0.0, "RUN");
@@ -83,12 +87,17 @@ static void startup_matrix(foc_est_kind_t est, int mm, double speed_dev_max, dou
             }
         }
     }
-    printf("start-up (%s)%s: %d/%d reached RUN and 1000 rpm (worst mean %.2f rpm off, limit "
+    printf("start-up (%s)%s%s: %d/%d reached RUN and 1000 rpm (worst mean %.2f rpm off, limit "
            "%.2f); worst start->RUN %.1f ms (%s; limit %.0f)\n",
-           foc_est_name(est), plant_name(mm), ok, total, worst_dev, speed_dev_max, worst * 1e3,
+           foc_est_name(est), realistic ? " [realistic]" : "", plant_name(mm), ok, total, worst_dev, speed_dev_max, worst * 1e3,
            worst_case, t_run_max * 1e3);
     TK_CHECK(ok == total, "%d of %d starts failed", total - ok, total);
     TK_CHECK(worst <= t_run_max, "worst start->RUN %.1f ms", worst * 1e3);
+}
+
+static void startup_matrix(foc_est_kind_t est, int mm, double speed_dev_max, double t_run_max)
+{
+    startup_matrix_on(est, mm, 0, speed_dev_max, t_run_max);
 }
 
 /* Measured, PLL / Luenberger / flux: the mean speed at most 0.22 / 0.23 /
@@ -104,6 +113,20 @@ static void case_startup_matrix_luenberger_mismatch(void)
 }
 static void case_startup_matrix_flux(void) { startup_matrix(FOC_EST_FLUX, 0, 1.0, 0.5); }
 static void case_startup_matrix_flux_mismatch(void) { startup_matrix(FOC_EST_FLUX, 1, 1.5, 0.5); }
+/* On `plant realistic` (issue 13), measured PLL / Luenberger / flux: 72 of
+ * 72 each, the mean speed at most 0.89 / 1.44 / 1.07 rpm off (the PLL on
+ * the mismatch too: 0.48), start->RUN 387.5 / 397.0 / 411.0 ms at worst
+ * (396.5); limits about 3-4 x the speed figures, the issue's 500 ms. */
+static void case_startup_matrix_realistic(void) { startup_matrix_on(FOC_ESTIMATOR, 0, 1, 3.0, 0.5); }
+static void case_startup_matrix_luenberger_realistic(void)
+{
+    startup_matrix_on(FOC_EST_LUENBERGER, 0, 1, 5.0, 0.5);
+}
+static void case_startup_matrix_flux_realistic(void) { startup_matrix_on(FOC_EST_FLUX, 0, 1, 4.0, 0.5); }
+static void case_startup_matrix_realistic_mismatch(void)
+{
+    startup_matrix_on(FOC_ESTIMATOR, 1, 1, 2.0, 0.5);
+}
 
 /* A rotor locked before `start` never reaches RUN: STARTUP_FAILED when
  * the start-up times out, CALIB_TIME_S + STARTUP_TIMEOUT_S after the
@@ -657,6 +680,8 @@ TK_CASES(TK_CASE(case_fault_brake), TK_CASE(case_fault_brake_mismatch),
          TK_CASE(case_startup_matrix), TK_CASE(case_startup_matrix_mismatch),
          TK_CASE(case_startup_matrix_luenberger), TK_CASE(case_startup_matrix_luenberger_mismatch),
          TK_CASE(case_startup_matrix_flux), TK_CASE(case_startup_matrix_flux_mismatch),
+         TK_CASE(case_startup_matrix_realistic), TK_CASE(case_startup_matrix_luenberger_realistic),
+         TK_CASE(case_startup_matrix_flux_realistic), TK_CASE(case_startup_matrix_realistic_mismatch),
          TK_CASE(case_locked_rotor_fails_startup), TK_CASE(case_locked_rotor_fails_startup_mismatch),
          TK_CASE(case_field_weakening_max_speed), TK_CASE(case_field_weakening_max_speed_mismatch),
          TK_CASE(case_unreachable_speed_settles), TK_CASE(case_unreachable_speed_settles_mismatch),
