@@ -80,6 +80,24 @@ static void mismatch(foc_est_kind_t kind, const est_limits_t lim[2])
     speeds_and_loads(kind, lim, speeds, 4, plant, 1, " mismatch");
 }
 
+/* Issue 13's `plant realistic` (the switched bridge, the board's sampling
+ * instant, 2 codes of noise, its dead time compensated, sensor gains
+ * +-2 %, 3 % 5th and 1 % 7th EMF harmonics), 500-3000 rpm with no load,
+ * 1000-3000 rpm with 0.05 Nm (lim[0], lim[1]; the issue's accuracy
+ * figures and the gap: docs/estimators.md).  Not 500 rpm with 0.05 Nm:
+ * there the load's step swings the light rotor 187-553 rpm and the PLL and
+ * the Luenberger observer trip SPEED_FEEDBACK falsely, 40 ms after it (the
+ * speed statistic's variance: the rotor follows, the estimate with it),
+ * an open finding (docs/estimators.md). */
+static void plant_realistic(foc_est_kind_t kind, const est_limits_t lim[2])
+{
+    const est_case_t c = { 500.0, 0.0, 30.0, "0 plant realistic\n", 1, 0 };
+    char label[64];
+    snprintf(label, sizeof label, "%s plant realistic   500 rpm 0.00 Nm", foc_est_name(kind));
+    check_case(kind, &lim[0], label, &c);
+    speeds_and_loads(kind, lim, forward + 1, 3, "0 plant realistic\n", 1, " plant realistic");
+}
+
 /* The real motor: Rs +30 %, Ls -20 %, flux -10 % from userparms.h, no
  * load (`free`) and 0.05 Nm (`loaded`: the angle error is then the bias
  * dL iq / psi, 2.9 deg).  (The peak was limited at 180 deg, which the
@@ -231,6 +249,14 @@ static void case_pll_detuned_motor(void)
     static const est_limits_t loaded = { 10.0, 10.0, 0.2, 0.02 };
     detuned(FOC_EST_PLL, &free, &loaded);
 }
+/* plant realistic, no load (500-3000 rpm): 3.299 / 10.53 / 9.345 / 0.101
+ * (500 rpm); 0.05 Nm (1000-3000): 1.234 / 2.943 / 1.895 / 0.015.  Limits
+ * 3 x; the issue's 2 deg and 1 % are not met (docs/estimators.md). */
+static void case_pll_plant_realistic(void)
+{
+    static const est_limits_t lim[2] = { { 10.0, 32.0, 28.0, 0.3 }, { 3.7, 9.0, 5.7, 0.05 } };
+    plant_realistic(FOC_EST_PLL, lim);
+}
 /* 25 rpm (the lowest tried), worst RMS 0.437 deg */
 static void case_pll_lowest_speed(void) { lowest_speed(FOC_EST_PLL, 0, 75.0, 1.5); }
 /* mismatch: 25 rpm, worst RMS 7.14 deg (at 25 rpm; the 10 deg that
@@ -281,6 +307,13 @@ static void case_flux_detuned_motor(void)
     static const est_limits_t loaded = { 10.0, 10.0, 0.15, 0.02 };
     detuned(FOC_EST_FLUX, &free, &loaded);
 }
+/* plant realistic, no load: 2.947 / 8.871 / 7.144 / 0.251 (500 rpm);
+ * 0.05 Nm: 2.553 / 4.819 / 1.994 / 0.010 (3000 rpm).  Limits 3 x. */
+static void case_flux_plant_realistic(void)
+{
+    static const est_limits_t lim[2] = { { 9.0, 27.0, 22.0, 0.75 }, { 7.7, 15.0, 6.0, 0.03 } };
+    plant_realistic(FOC_EST_FLUX, lim);
+}
 /* 25 rpm, worst RMS 0.579 deg */
 static void case_flux_lowest_speed(void) { lowest_speed(FOC_EST_FLUX, 0, 75.0, 2.0); }
 /* mismatch: 25 rpm, worst RMS 8.63 deg (at 25 rpm) */
@@ -330,6 +363,13 @@ static void case_luenberger_detuned_motor(void)
     static const est_limits_t loaded = { 10.0, 10.0, 0.4, 0.04 };
     detuned(FOC_EST_LUENBERGER, &free, &loaded);
 }
+/* plant realistic, no load: 2.951 / 7.875 / 10.036 / 0.041 (500 rpm);
+ * 0.05 Nm: 2.112 / 4.247 / 1.992 / 0.010.  Limits 3 x. */
+static void case_luenberger_plant_realistic(void)
+{
+    static const est_limits_t lim[2] = { { 9.0, 24.0, 30.0, 0.12 }, { 6.4, 13.0, 6.0, 0.03 } };
+    plant_realistic(FOC_EST_LUENBERGER, lim);
+}
 /* 50 rpm, worst RMS 0.742 deg */
 static void case_luenberger_lowest_speed(void)
 {
@@ -350,7 +390,8 @@ static void case_luenberger_flux_mismatch(void)
     flux_mismatch(FOC_EST_LUENBERGER, &lim);
 }
 
-TK_CASES(TK_CASE(case_pll_speeds_and_loads), TK_CASE(case_pll_reverse), TK_CASE(case_pll_mismatch),
+TK_CASES(TK_CASE(case_pll_plant_realistic), TK_CASE(case_flux_plant_realistic),
+         TK_CASE(case_luenberger_plant_realistic), TK_CASE(case_pll_speeds_and_loads), TK_CASE(case_pll_reverse), TK_CASE(case_pll_mismatch),
          TK_CASE(case_pll_detuned_motor), TK_CASE(case_pll_lowest_speed),
          TK_CASE(case_pll_lowest_speed_mismatch), TK_CASE(case_pll_flux_mismatch),
          TK_CASE(case_pll_rs_mismatch), TK_CASE(case_pll_ls_mismatch),
