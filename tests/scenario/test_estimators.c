@@ -85,10 +85,12 @@ static void mismatch(foc_est_kind_t kind, const est_limits_t lim[2])
  * +-2 %, 3 % 5th and 1 % 7th EMF harmonics), 500-3000 rpm with no load,
  * 1000-3000 rpm with 0.05 Nm (lim[0], lim[1]; the issue's accuracy
  * figures and the gap: docs/estimators.md).  Not 500 rpm with 0.05 Nm:
- * there the load's step swings the light rotor 187-553 rpm and the PLL and
- * the Luenberger observer trip SPEED_FEEDBACK falsely, 40 ms after it (the
- * speed statistic's variance: the rotor follows, the estimate with it),
- * an open finding (docs/estimators.md). */
+ * there the load's step, 0.25 s after the sensored start's hand-over,
+ * swings the light rotor 187-553 rpm and the PLL and the Luenberger
+ * observer trip SPEED_FEEDBACK falsely 40 ms after it (the speed
+ * statistic's variance: the rotor follows, the estimate with it; 0.5 s
+ * after the hand-over nothing trips), an open finding
+ * (docs/estimators.md). */
 static void plant_realistic(foc_est_kind_t kind, const est_limits_t lim[2])
 {
     const est_case_t c = { 500.0, 0.0, 30.0, "0 plant realistic\n", 1, 0 };
