@@ -516,11 +516,11 @@ static uint8_t probe_take(foc_ctrl_t *c, foc_ab_t i)
  * it needs to find the EMF (1.35-1.44 x the limit on the servo caught at
  * 3500 rpm, tests/torture/regress/4c).  So, twice: the bridge off for
  * FOC_PROBE_OFF_PERIODS (a current left from before returns to zero
- * through the diodes), then zero vector from a sample, or half a period
- * after it (FOC_PROBE_HALF_SHORT, config.h), to the next sample, after
- * which the bridge is off at once.  Each short's current gives the EMF's
- * angle, the angle
- * turned between the two, FOC_PROBE_SPACING periods apart, the speed.
+ * through the diodes), then zero vector from half a period after a
+ * sample to the next sample, or the one after (FOC_PROBE_LONG, config.h),
+ * after which the bridge is off at once.  Each short's current gives the
+ * EMF's angle, the angle turned between the two, FOC_PROBE_SPACING
+ * periods apart, the speed.
  * Then the estimator and the current controller are preset to the
  * rotor's angle, speed and back-EMF while the current returns to zero,
  * and the bridge takes the rotor holding zero current from the first
