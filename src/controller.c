@@ -128,7 +128,8 @@ static void reset_run_state(foc_ctrl_t *c)
     c->handover_id = 0;
     c->start_ticks = 0;
     c->reversal_speed = 0;
-    c->unreliable_ticks = 0;
+    c->unsteady_ticks = 0;
+    c->too_slow_ticks = 0;
     c->emf_low_ticks = 0;
     c->lprobe_req = 0;
     foc_sup_run_reset(&c->sup);
@@ -1030,32 +1031,40 @@ static void stall_check(foc_ctrl_t *c, uint8_t reversal)
         return; /* nothing to check yet */
     }
     const uint8_t in_range = (uint8_t)(foc_abs_q15(c->speed_ctrl.ramped) >= FOC_STARTUP_MIN_SPEED);
-    /* reliable, and not far below the speed asked for (an estimate that
-     * settled at standstill is "reliable" too) */
-    const int32_t mean = (int32_t)foc_speed_stats_mean(&c->speed_stats) * c->direction;
-    const uint8_t reliable =
-        (uint8_t)(foc_speed_stats_reliable(&c->speed_stats, FOC_STALL_VARIANCE_THRESHOLD) &&
-                  mean >= FOC_STARTUP_MIN_SPEED / 2);
+    const uint8_t steady = foc_speed_stats_reliable(&c->speed_stats, FOC_STALL_VARIANCE_THRESHOLD);
+    /* the estimate far below the estimator's range (a locked rotor's is
+     * steady at standstill within 5 ms): the present one, not the
+     * window's mean, which would wait for the window */
+    const uint8_t too_slow =
+        (uint8_t)((int32_t)c->est.est_speed * c->direction < FOC_STARTUP_MIN_SPEED / 2);
     const uint8_t motoring = (uint8_t)(((int32_t)c->i_ref.q * c->direction) > 0);
     const uint8_t emf_ok = foc_est_emf_consistent(
         &c->est, (motoring != 0u && c->est.kind == (uint8_t)FOC_EST_LUENBERGER)
                      /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
                      ? FOC_STALL_EMF_RATIO_MOTORING : FOC_STALL_EMF_RATIO);
-    /* the statistics' count leaks (2 up, 1 down): the estimate of a rotor
-     * slipping poles looks steady for a moment each turn */
+    /* the variance's count leaks (2 up, 1 down): the estimate of a rotor
+     * slipping poles looks steady for a moment each turn.  It trips after
+     * STALL_TICKS beyond the statistic's window: one transient (a load
+     * step's dip at low speed) keeps the window unsteady for exactly its
+     * length, 32 ms on the boards, which outlasts STALL_TICKS alone */
     if (in_range == 0u) {
-        c->unreliable_ticks = 0u;
-    } else if (reliable != 0u) {
-        c->unreliable_ticks = (uint16_t)((c->unreliable_ticks != 0u) ? c->unreliable_ticks - 1u : 0u);
+        c->unsteady_ticks = 0u;
+        c->too_slow_ticks = 0u;
     } else {
-        c->unreliable_ticks = (uint16_t)(c->unreliable_ticks + 2u);
+        if (steady != 0u) {
+            c->unsteady_ticks = (uint16_t)((c->unsteady_ticks != 0u) ? c->unsteady_ticks - 1u : 0u);
+        } else {
+            c->unsteady_ticks = (uint16_t)(c->unsteady_ticks + 2u);
+        }
+        c->too_slow_ticks = (too_slow != 0u) ? (uint16_t)(c->too_slow_ticks + 1u) : 0u;
     }
     /* the flux estimator's learned flux is itself slow and slewed (tens of
      * ms to reach its range's end): no second wait (regress/2b) */
     const uint16_t emf_low_max = (c->est.kind == (uint8_t)FOC_EST_FLUX) ? 1u : (uint16_t)STALL_TICKS;
     c->emf_low_ticks =
         (emf_ok != 0u || reversal != 0u) ? 0u : (uint16_t)(c->emf_low_ticks + 1u);
-    if (c->unreliable_ticks >= 2u * (uint16_t)STALL_TICKS || c->emf_low_ticks >= emf_low_max) {
+    if (c->unsteady_ticks >= 2u * ((uint16_t)STALL_TICKS + (uint16_t)FOC_SPEED_STATS_N) ||
+        c->too_slow_ticks >= (uint16_t)STALL_TICKS || c->emf_low_ticks >= emf_low_max) {
         trip(c, (uint16_t)FOC_FAULT_SPEED_FEEDBACK);
     }
 }

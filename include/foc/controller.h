@@ -228,8 +228,10 @@ typedef struct {
                             /* began (it must slow down in each) */
     uint16_t start_ticks;   /* [slow] slow ticks since `start` (start-up */
                             /* timeout; in RUN, a reversal's ramp down) */
-    uint16_t unreliable_ticks; /* [slow] stall detection counters */
-    uint16_t emf_low_ticks;    /* [slow] */
+    uint16_t unsteady_ticks; /* [slow] stall detection: the speed statistic */
+                             /* unsteady (leaky, 2 up 1 down), */
+    uint16_t too_slow_ticks; /* [slow] its mean far below the range, */
+    uint16_t emf_low_ticks;  /* [slow] the back-EMF below its speed's */
     uint16_t state_ticks;   /* [slow] slow ticks spent in the present state */
     q15_t lprobe_peak;      /* [fast] the largest deviation of the current */
                             /* from its reference during the inductance */

@@ -82,22 +82,24 @@ static void mismatch(foc_est_kind_t kind, const est_limits_t lim[2])
 
 /* Issue 13's `plant realistic` (the switched bridge, the board's sampling
  * instant, 2 codes of noise, its dead time compensated, sensor gains
- * +-2 %, 3 % 5th and 1 % 7th EMF harmonics), 500-3000 rpm with no load,
- * 1000-3000 rpm with 0.05 Nm (lim[0], lim[1]; the issue's accuracy
- * figures and the gap: docs/estimators.md).  Not 500 rpm with 0.05 Nm:
- * there the load's step, 0.25 s after the sensored start's hand-over,
- * swings the light rotor 187-553 rpm and the PLL and the Luenberger
- * observer trip SPEED_FEEDBACK falsely 40 ms after it (the speed
- * statistic's variance: the rotor follows, the estimate with it; 0.5 s
- * after the hand-over nothing trips), an open finding
- * (docs/estimators.md). */
-static void plant_realistic(foc_est_kind_t kind, const est_limits_t lim[2])
+ * +-2 %, 3 % 5th and 1 % 7th EMF harmonics), 500-3000 rpm with no load
+ * (lim[0]), 1000-3000 rpm with 0.05 Nm (lim[1]) and 500 rpm with 0.05 Nm
+ * (lim[2]: the load's step, 0.25 s after the sensored start's hand-over,
+ * swings the light rotor 180-550 rpm; until the speed statistic's trip
+ * waited beyond its window, the PLL and the Luenberger observer tripped
+ * SPEED_FEEDBACK falsely 40 ms after it).  The issue's accuracy figures
+ * and the gap: docs/estimators.md. */
+static void plant_realistic(foc_est_kind_t kind, const est_limits_t lim[3])
 {
-    const est_case_t c = { 500.0, 0.0, 30.0, "0 plant realistic\n", 1, 0 };
-    char label[64];
-    snprintf(label, sizeof label, "%s plant realistic   500 rpm 0.00 Nm", foc_est_name(kind));
-    check_case(kind, &lim[0], label, &c);
     speeds_and_loads(kind, lim, forward + 1, 3, "0 plant realistic\n", 1, " plant realistic");
+    static const double loads[] = { 0.0, 0.05 };
+    for (size_t j = 0; j < 2; j++) {
+        const est_case_t c = { 500.0, loads[j], 30.0, "0 plant realistic\n", 1, 0 };
+        char label[64];
+        snprintf(label, sizeof label, "%s plant realistic   500 rpm %.2f Nm", foc_est_name(kind),
+                 loads[j]);
+        check_case(kind, &lim[2 * j], label, &c);
+    }
 }
 
 /* The real motor: Rs +30 %, Ls -20 %, flux -10 % from userparms.h, no
@@ -253,14 +255,16 @@ static void case_pll_detuned_motor(void)
     detuned(FOC_EST_PLL, &free, &loaded);
 }
 /* plant realistic, no load (500-3000 rpm): 3.299 / 10.53 / 9.345 / 0.101
- * (500 rpm); 0.05 Nm (1000-3000): 1.234 / 2.943 / 1.895 / 0.015.  Limits
- * 3 x; the issue's 2 deg and 1 % are not met (docs/estimators.md). */
+ * (500 rpm); 0.05 Nm (1000-3000): 1.234 / 2.943 / 1.895 / 0.015; 500 rpm
+ * 0.05 Nm: 2.493 / 5.464 / 6.234 / 0.077.  Limits 3 x; the issue's 2 deg
+ * and 1 % are not met (docs/estimators.md). */
 /* plant realistic: 300 rpm (at 250 the rotor is lost), worst RMS 4.31 deg;
  * the limit one step of the walk above (the issue's 3 % is 105 rpm) */
 static void case_pll_lowest_speed_realistic(void) { lowest_speed(FOC_EST_PLL, 2, 400.0, 10.0); }
 static void case_pll_plant_realistic(void)
 {
-    static const est_limits_t lim[2] = { { 10.0, 32.0, 28.0, 0.3 }, { 3.7, 9.0, 5.7, 0.05 } };
+    static const est_limits_t lim[3] = { { 10.0, 32.0, 28.0, 0.3 }, { 3.7, 9.0, 5.7, 0.05 },
+                                         { 7.5, 16.5, 19.0, 0.25 } };
     plant_realistic(FOC_EST_PLL, lim);
 }
 /* 25 rpm (the lowest tried), worst RMS 0.437 deg */
@@ -314,13 +318,15 @@ static void case_flux_detuned_motor(void)
     detuned(FOC_EST_FLUX, &free, &loaded);
 }
 /* plant realistic, no load: 2.947 / 8.871 / 7.144 / 0.251 (500 rpm);
- * 0.05 Nm: 2.553 / 4.819 / 1.994 / 0.010 (3000 rpm).  Limits 3 x. */
+ * 0.05 Nm: 2.553 / 4.819 / 1.994 / 0.010 (3000 rpm); 500 rpm 0.05 Nm:
+ * 1.575 / 4.387 / 4.023 / 0.049.  Limits 3 x. */
 /* plant realistic: 150 rpm (9.53 deg RMS there; 10.6 at 125), the limit
  * one step above */
 static void case_flux_lowest_speed_realistic(void) { lowest_speed(FOC_EST_FLUX, 2, 175.0, 10.0); }
 static void case_flux_plant_realistic(void)
 {
-    static const est_limits_t lim[2] = { { 9.0, 27.0, 22.0, 0.75 }, { 7.7, 15.0, 6.0, 0.03 } };
+    static const est_limits_t lim[3] = { { 9.0, 27.0, 22.0, 0.75 }, { 7.7, 15.0, 6.0, 0.03 },
+                                         { 4.7, 13.0, 12.0, 0.15 } };
     plant_realistic(FOC_EST_FLUX, lim);
 }
 /* 25 rpm, worst RMS 0.579 deg */
@@ -373,7 +379,8 @@ static void case_luenberger_detuned_motor(void)
     detuned(FOC_EST_LUENBERGER, &free, &loaded);
 }
 /* plant realistic, no load: 2.951 / 7.875 / 10.036 / 0.041 (500 rpm);
- * 0.05 Nm: 2.112 / 4.247 / 1.992 / 0.010.  Limits 3 x. */
+ * 0.05 Nm: 2.112 / 4.247 / 1.992 / 0.010; 500 rpm 0.05 Nm: 2.084 / 5.178 /
+ * 7.691 / 0.021.  Limits 3 x. */
 /* plant realistic: 300 rpm (lost at 250), worst RMS 5.68 deg */
 static void case_luenberger_lowest_speed_realistic(void)
 {
@@ -381,7 +388,8 @@ static void case_luenberger_lowest_speed_realistic(void)
 }
 static void case_luenberger_plant_realistic(void)
 {
-    static const est_limits_t lim[2] = { { 9.0, 24.0, 30.0, 0.12 }, { 6.4, 13.0, 6.0, 0.03 } };
+    static const est_limits_t lim[3] = { { 9.0, 24.0, 30.0, 0.12 }, { 6.4, 13.0, 6.0, 0.03 },
+                                         { 6.3, 15.5, 23.0, 0.07 } };
     plant_realistic(FOC_EST_LUENBERGER, lim);
 }
 /* 50 rpm, worst RMS 0.742 deg */
