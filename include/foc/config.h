@@ -1183,13 +1183,25 @@ FOC_STATIC_ASSERT(FOC_PROBE_SPACING * FOC_DTHETA_AT_BASE * MOTOR_MAX_SPEED_RPM *
 #define FOC_MAX_SPEED FOC_SPEED_Q15(MOTOR_MAX_SPEED_RPM)
 /* A sensorless command below SENSORLESS_MIN_SPEED_RPM (not 0) is raised to
  * it, sign kept.  By default the lowest speed the estimators carry the
- * loop at (STARTUP_MIN_SPEED_RPM, also where STOP leaves the rotor):
- * below it a dead time or a resistance off by the campaign's envelope is
- * a large part of the back-EMF, and the estimates drift or limit-cycle
- * unseen (docs/safety.md).  0 lets every command through, for a motor
- * whose parameters are known well. */
+ * loop at: STARTUP_MIN_SPEED_RPM (also where STOP leaves the rotor), and
+ * no lower than where the back-EMF is FOC_DT_EMF_MARGIN x the dead time's
+ * fundamental, (4/pi) Vdc t_dead f_pwm (a square wave of the dead-time
+ * voltage per phase).  Below either a dead time or a resistance off by
+ * the campaign's envelope is a large part of the back-EMF, and the
+ * estimates drift or limit-cycle unseen (docs/safety.md).  Near zero
+ * current the switched bridge's dead-time error is a near step, not the
+ * ripple band's slope (docs/estimators.md): on `plant realistic` the
+ * Hurst075 unloaded after a sensorless start tripped SPEED_FEEDBACK at
+ * 250 rpm (back-EMF 0.86 x that fundamental) and ran at 300 (1.03 x);
+ * the margin 1.2 puts its floor at 351 rpm.  0 lets every command
+ * through, for a motor whose parameters are known well. */
+#define FOC_DT_EMF_MARGIN 1.2
+#define FOC_DT_FLOOR_RPM                                                       \
+    (FOC_DT_EMF_MARGIN * (4.0 / FOC_PI_D) * BOARD_VDC_NOMINAL_V * PWM_DEADTIME_S * PWM_FREQUENCY_HZ / \
+     (FOC_FLUX_WB * MOTOR_POLE_PAIRS * 2.0 * FOC_PI_D / 60.0))
 #ifndef SENSORLESS_MIN_SPEED_RPM
-#define SENSORLESS_MIN_SPEED_RPM STARTUP_MIN_SPEED_RPM
+#define SENSORLESS_MIN_SPEED_RPM                                               \
+    ((FOC_DT_FLOOR_RPM > STARTUP_MIN_SPEED_RPM) ? FOC_DT_FLOOR_RPM : STARTUP_MIN_SPEED_RPM)
 #endif
 #define FOC_SENSORLESS_MIN_SPEED FOC_SPEED_Q15(SENSORLESS_MIN_SPEED_RPM)
 #define FOC_OVERSPEED FOC_SPEED_Q15(MOTOR_MAX_SPEED_RPM * (1.0 + OVERSPEED_MARGIN))
