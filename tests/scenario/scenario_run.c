@@ -177,13 +177,14 @@ void run_mismatch_plant(char *buf, size_t len)
              PWM_DEADTIME_S);
 }
 
-const char *run_text(char *buf, size_t len, int mismatch, const char *scenario)
+const char *run_text(char *buf, size_t len, int plant, const char *scenario)
 {
-    char plant[256] = "";
-    if (mismatch) {
-        run_mismatch_plant(plant, sizeof plant);
+    char mismatch[256] = "";
+    if ((plant & RUN_MISMATCH) != 0) {
+        run_mismatch_plant(mismatch, sizeof mismatch);
     }
-    snprintf(buf, len, "%s%s", plant, scenario);
+    snprintf(buf, len, "%s%s%s", (plant & RUN_REALISTIC) != 0 ? "0 plant realistic\n" : "",
+             mismatch, scenario);
     return buf;
 }
 

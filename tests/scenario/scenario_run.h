@@ -31,9 +31,16 @@ typedef struct {
 #define RUN_MISMATCH_NAME "Rs +30 %, L -20 %, flux +10 %, noise 2 codes, dead time"
 void run_mismatch_plant(char *buf, size_t len);
 
-/* `scenario` after the mismatch's lines when `mismatch` is non-zero, as
- * is otherwise (into buf). */
-const char *run_text(char *buf, size_t len, int mismatch, const char *scenario);
+/* The plants of run_text: RUN_MISMATCH the mismatch above, RUN_REALISTIC
+ * issue 13's `plant realistic` (the switched bridge, the board's sampling
+ * instant, 2 codes of noise, the dead time, sensor gains +-2 %, 3 % 5th
+ * and 1 % 7th EMF harmonics), both together where both are set. */
+#define RUN_MISMATCH 1
+#define RUN_REALISTIC 2
+
+/* `scenario` after the lines of the plants in `plant` (RUN_* flags; 0:
+ * the nominal plant, the scenario as is), into buf. */
+const char *run_text(char *buf, size_t len, int plant, const char *scenario);
 
 /* Parses and runs `text` with the given options; exits the test program
  * on a parse or set-up error. */
