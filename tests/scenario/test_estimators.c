@@ -102,6 +102,20 @@ static void plant_realistic(foc_est_kind_t kind, const est_limits_t lim[3])
     }
 }
 
+/* `plant realistic` under the stated mismatch (RUN_MISMATCH_NAME), 500,
+ * 1000 and 2000 rpm with no load (lim[0]) and 0.05 Nm (lim[1]); not
+ * 3000 rpm, which the mismatched motor cannot reach with the load (see
+ * mismatch()). */
+static void plant_realistic_mismatch(foc_est_kind_t kind, const est_limits_t lim[2])
+{
+    static const double speeds[] = { 500.0, 1000.0, 2000.0 };
+    char plant[512];
+    const int n = snprintf(plant, sizeof plant, "0 plant realistic\n");
+    run_mismatch_plant(plant + n, sizeof plant - (size_t)n);
+    printf("plant: realistic, %s\n", RUN_MISMATCH_NAME);
+    speeds_and_loads(kind, lim, speeds, 3, plant, 1, " realistic mismatch");
+}
+
 /* The real motor: Rs +30 %, Ls -20 %, flux -10 % from userparms.h, no
  * load (`free`) and 0.05 Nm (`loaded`: the angle error is then the bias
  * dL iq / psi, 2.9 deg).  (The peak was limited at 180 deg, which the
@@ -261,6 +275,14 @@ static void case_pll_detuned_motor(void)
 /* plant realistic: 300 rpm (at 250 the rotor is lost), worst RMS 4.31 deg;
  * the limit one step of the walk above (the issue's 3 % is 105 rpm) */
 static void case_pll_lowest_speed_realistic(void) { lowest_speed(FOC_EST_PLL, 2, 400.0, 10.0); }
+/* plant realistic on the mismatch, worst over 500-2000 rpm, no load:
+ * 2.686 / 9.801 / 7.879 / 0.351; 0.05 Nm: 4.229 / 9.044 / 5.539 / 0.143
+ * (500 rpm).  Limits 3 x. */
+static void case_pll_plant_realistic_mismatch(void)
+{
+    static const est_limits_t lim[2] = { { 8.1, 29.5, 23.7, 1.05 }, { 12.7, 27.0, 16.6, 0.43 } };
+    plant_realistic_mismatch(FOC_EST_PLL, lim);
+}
 static void case_pll_plant_realistic(void)
 {
     static const est_limits_t lim[3] = { { 10.0, 32.0, 28.0, 0.3 }, { 3.7, 9.0, 5.7, 0.05 },
@@ -323,6 +345,14 @@ static void case_flux_detuned_motor(void)
 /* plant realistic: 150 rpm (9.53 deg RMS there; 10.6 at 125), the limit
  * one step above */
 static void case_flux_lowest_speed_realistic(void) { lowest_speed(FOC_EST_FLUX, 2, 175.0, 10.0); }
+/* plant realistic on the mismatch, worst over 500-2000 rpm, no load:
+ * 4.506 / 10.65 / 6.854 / 0.066; 0.05 Nm: 3.107 / 5.015 / 2.135 / 0.022.
+ * Limits 3 x. */
+static void case_flux_plant_realistic_mismatch(void)
+{
+    static const est_limits_t lim[2] = { { 13.5, 32.0, 20.6, 0.2 }, { 9.3, 15.0, 6.4, 0.07 } };
+    plant_realistic_mismatch(FOC_EST_FLUX, lim);
+}
 static void case_flux_plant_realistic(void)
 {
     static const est_limits_t lim[3] = { { 9.0, 27.0, 22.0, 0.75 }, { 7.7, 15.0, 6.0, 0.03 },
@@ -386,6 +416,14 @@ static void case_luenberger_lowest_speed_realistic(void)
 {
     lowest_speed(FOC_EST_LUENBERGER, 2, 400.0, 10.0);
 }
+/* plant realistic on the mismatch, worst over 500-2000 rpm, no load:
+ * 2.878 / 7.877 / 8.222 / 0.235; 0.05 Nm: 3.249 / 6.523 / 5.138 / 0.054.
+ * Limits 3 x. */
+static void case_luenberger_plant_realistic_mismatch(void)
+{
+    static const est_limits_t lim[2] = { { 8.6, 23.6, 24.7, 0.7 }, { 9.7, 19.6, 15.4, 0.16 } };
+    plant_realistic_mismatch(FOC_EST_LUENBERGER, lim);
+}
 static void case_luenberger_plant_realistic(void)
 {
     static const est_limits_t lim[3] = { { 9.0, 24.0, 30.0, 0.12 }, { 6.4, 13.0, 6.0, 0.03 },
@@ -412,7 +450,9 @@ static void case_luenberger_flux_mismatch(void)
     flux_mismatch(FOC_EST_LUENBERGER, &lim);
 }
 
-TK_CASES(TK_CASE(case_pll_lowest_speed_realistic), TK_CASE(case_flux_lowest_speed_realistic),
+TK_CASES(TK_CASE(case_pll_plant_realistic_mismatch), TK_CASE(case_flux_plant_realistic_mismatch),
+         TK_CASE(case_luenberger_plant_realistic_mismatch),
+         TK_CASE(case_pll_lowest_speed_realistic), TK_CASE(case_flux_lowest_speed_realistic),
          TK_CASE(case_luenberger_lowest_speed_realistic),
          TK_CASE(case_pll_plant_realistic), TK_CASE(case_flux_plant_realistic),
          TK_CASE(case_luenberger_plant_realistic), TK_CASE(case_pll_speeds_and_loads), TK_CASE(case_pll_reverse), TK_CASE(case_pll_mismatch),
