@@ -1043,10 +1043,17 @@ static void stall_check(foc_ctrl_t *c, uint8_t reversal)
                      /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
                      ? FOC_STALL_EMF_RATIO_MOTORING : FOC_STALL_EMF_RATIO);
     /* the variance's count leaks (2 up, 1 down): the estimate of a rotor
-     * slipping poles looks steady for a moment each turn.  It trips after
-     * STALL_TICKS beyond the statistic's window: one transient (a load
-     * step's dip at low speed) keeps the window unsteady for exactly its
-     * length, 32 ms on the boards, which outlasts STALL_TICKS alone */
+     * slipping poles looks steady for a moment each turn.  It trips at
+     * STALL_TICKS, but with the estimate back within a quarter of the
+     * reference only STALL_TICKS beyond the statistic's window: one
+     * transient that passed (a load step's dip at low speed) keeps the
+     * window unsteady for exactly its length, 32 ms on the boards */
+    const int32_t off = (int32_t)c->est.est_speed - c->speed_ctrl.ramped;
+    const int32_t ref_abs = foc_abs_q15(c->speed_ctrl.ramped);
+    const uint8_t recovered = (uint8_t)(4 * ((off < 0) ? -off : off) < ref_abs);
+    const uint16_t unsteady_max = (recovered != 0u)
+                                      ? (uint16_t)(2u * ((uint16_t)STALL_TICKS + (uint16_t)FOC_SPEED_STATS_N))
+                                      : (uint16_t)(2u * (uint16_t)STALL_TICKS);
     if (in_range == 0u) {
         c->unsteady_ticks = 0u;
         c->too_slow_ticks = 0u;
@@ -1063,7 +1070,7 @@ static void stall_check(foc_ctrl_t *c, uint8_t reversal)
     const uint16_t emf_low_max = (c->est.kind == (uint8_t)FOC_EST_FLUX) ? 1u : (uint16_t)STALL_TICKS;
     c->emf_low_ticks =
         (emf_ok != 0u || reversal != 0u) ? 0u : (uint16_t)(c->emf_low_ticks + 1u);
-    if (c->unsteady_ticks >= 2u * ((uint16_t)STALL_TICKS + (uint16_t)FOC_SPEED_STATS_N) ||
+    if (c->unsteady_ticks >= unsteady_max ||
         c->too_slow_ticks >= (uint16_t)STALL_TICKS || c->emf_low_ticks >= emf_low_max) {
         trip(c, (uint16_t)FOC_FAULT_SPEED_FEEDBACK);
     }

@@ -223,13 +223,14 @@
 /* ---------------------------------------------------------- supervision -- */
 /* Stall / step-out in RUN (and from the hand-over on), fault
  * SPEED_FEEDBACK: the estimated speed unsteady (variance of the last 64
- * slow ticks >= mean^2 x threshold) for STALL_TICKS slow ticks beyond
- * those 64 (one transient, a load step's dip, keeps the window unsteady
- * for its length; a tick that looks steady takes back half a tick: a
- * rotor slipping poles looks steady a moment each turn); or the estimate
- * below half of STARTUP_MIN_SPEED_RPM, or its back-EMF below
- * STALL_EMF_RATIO of what its speed implies, for STALL_TICKS.
- * STALL_TICKS < 32000. */
+ * slow ticks >= mean^2 x threshold) for STALL_TICKS slow ticks, or, with
+ * the estimate back within a quarter of the reference, for STALL_TICKS
+ * beyond those 64 (one transient that passed, a load step's dip, keeps
+ * the window unsteady for its length; a tick that looks steady takes
+ * back half a tick: a rotor slipping poles looks steady a moment each
+ * turn); or the estimate below half of STARTUP_MIN_SPEED_RPM, or its
+ * back-EMF below STALL_EMF_RATIO of what its speed implies, for
+ * STALL_TICKS.  STALL_TICKS < 32000. */
 #define STALL_VARIANCE_THRESHOLD    0.0625
 #define STALL_EMF_RATIO             0.5
 #define STALL_TICKS                 60
