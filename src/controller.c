@@ -1031,6 +1031,7 @@ static void stall_check(foc_ctrl_t *c, uint8_t reversal)
         return; /* nothing to check yet */
     }
     const uint8_t in_range = (uint8_t)(foc_abs_q15(c->speed_ctrl.ramped) >= FOC_STARTUP_MIN_SPEED);
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
     const uint8_t steady = foc_speed_stats_reliable(&c->speed_stats, FOC_STALL_VARIANCE_THRESHOLD);
     /* the estimate far below the estimator's range (a locked rotor's is
      * steady at standstill within 5 ms): the present one, not the
@@ -1052,6 +1053,7 @@ static void stall_check(foc_ctrl_t *c, uint8_t reversal)
     const int32_t ref_abs = foc_abs_q15(c->speed_ctrl.ramped);
     const uint8_t recovered = (uint8_t)(4 * ((off < 0) ? -off : off) < ref_abs);
     const uint16_t unsteady_max = (recovered != 0u)
+                                      /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
                                       ? (uint16_t)(2u * ((uint16_t)STALL_TICKS + (uint16_t)FOC_SPEED_STATS_N))
                                       : (uint16_t)(2u * (uint16_t)STALL_TICKS);
     if (in_range == 0u) {
