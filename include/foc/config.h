@@ -1196,11 +1196,12 @@ FOC_STATIC_ASSERT(FOC_PROBE_SPACING * FOC_DTHETA_AT_BASE * MOTOR_MAX_SPEED_RPM *
  * the margin 1.2 puts its floor at 351 rpm.  0 lets every command
  * through, for a motor whose parameters are known well. */
 #define FOC_DT_EMF_MARGIN 1.2
-#define FOC_DT_FLOOR_RPM                                                       \
-    (FOC_DT_EMF_MARGIN * (4.0 / FOC_PI_D) * BOARD_VDC_NOMINAL_V * PWM_DEADTIME_S * PWM_FREQUENCY_HZ / \
+#define FOC_DT_FLOOR_RPM_PER_S                                                 \
+    (FOC_DT_EMF_MARGIN * (4.0 / FOC_PI_D) * BOARD_VDC_NOMINAL_V * PWM_FREQUENCY_HZ /   \
      (FOC_FLUX_WB * MOTOR_POLE_PAIRS * 2.0 * FOC_PI_D / 60.0))
+#define FOC_DT_FLOOR_RPM (PWM_DEADTIME_S * FOC_DT_FLOOR_RPM_PER_S)
 #ifndef SENSORLESS_MIN_SPEED_RPM
-FOC_STATIC_ASSERT(FOC_DT_FLOOR_RPM <= MOTOR_MAX_SPEED_RPM,
+FOC_STATIC_ASSERT(PWM_DEADTIME_S * FOC_DT_FLOOR_RPM_PER_S <= MOTOR_MAX_SPEED_RPM,
                   "PWM_DEADTIME_S: at MOTOR_MAX_SPEED_RPM the back-EMF is below 1.2 x the dead "
                   "time's voltage, no speed where the estimators hold; shorten the dead time or "
                   "define SENSORLESS_MIN_SPEED_RPM");
