@@ -158,6 +158,7 @@ void foc_init(foc_ctrl_t *c)
     c->duty = half_duty;
     c->probe = 0;
     foc_cs_calib_start(&c->current_sense, FOC_CALIB_PERIODS_LOG2);
+    foc_gb_init(&c->gb);
     foc_cc_init(&c->current_ctrl);
     foc_sc_init(&c->speed_ctrl);
     foc_fw_init(&c->fw);
@@ -388,7 +389,7 @@ static void current_loop(foc_ctrl_t *c, uint8_t frame)
         }
     }
     const foc_ab_t i_last = c->i_ab;
-    c->i_ab = foc_cs_alphabeta(&c->current_sense, &c->samples, c->i_ab);
+    c->i_ab = foc_cs_alphabeta(&c->current_sense, &c->gb, &c->samples, c->i_ab);
     if (current_lost(c->i_ab) != 0u) {
         trip(c, (uint16_t)FOC_FAULT_OVERCURRENT); /* the current lost */
         return;
@@ -539,7 +540,7 @@ FOC_COLD static uint8_t catch_probe(foc_ctrl_t *c)
 {
     /* the current sense's out-of-line copy: the per-period path keeps
      * the inline one to itself */
-    const foc_ab_t i = foc_cs_read(&c->current_sense, &c->samples, c->i_ab);
+    const foc_ab_t i = foc_cs_read(&c->current_sense, &c->gb, &c->samples, c->i_ab);
     const uint8_t k = c->probe;
     c->probe = (uint8_t)(k + 1u);
     const uint8_t second = (uint8_t)(k >= FOC_PROBE_OFF_PERIODS + FOC_PROBE_SPACING);
@@ -1184,6 +1185,13 @@ static void run_tick(foc_ctrl_t *c)
         if (rs != c->est.rs_ratio) {
             foc_est_set_rs(&c->est, rs);
         }
+    }
+    /* the sensors' gain mismatch (from RUN's second tick: the voltage's
+     * mean starts at the first) */
+    if (c->state_ticks <= 1u) {
+        foc_gb_follow(&c->gb, c->v_dq, c->i_dq);
+    } else {
+        foc_gb_tick(&c->gb, c->est.theta, c->v_dq, c->i_dq, c->est.speed);
     }
     if (c->state == FOC_STATE_RUN && c->pending.stop != 0u) {
         c->comm.step = (uint8_t)FOC_COMM_STEP_NONE; /* MECH abandoned */

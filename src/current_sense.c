@@ -39,7 +39,8 @@ void foc_cs_calib_add(foc_current_sense_t *cs, const foc_samples_t *s)
     }
 }
 
-foc_ab_t foc_cs_read(const foc_current_sense_t *cs, const foc_samples_t *s, foc_ab_t previous)
+foc_ab_t foc_cs_read(const foc_current_sense_t *cs, const foc_gain_balance_t *gb, const foc_samples_t *s,
+                     foc_ab_t previous)
 {
-    return foc_cs_alphabeta(cs, s, previous);
+    return foc_cs_alphabeta(cs, gb, s, previous);
 }

@@ -3,8 +3,7 @@
  */
 #include "foc/sqrt.h"
 
-/* Number of significant bits of x > 0, 1..32. */
-static unsigned bit_length(uint32_t x)
+unsigned foc_bit_length(uint32_t x)
 {
 #if defined(__GNUC__) && (UINT32_MAX == 0xFFFFFFFFuL) && (__SIZEOF_INT__ == 4)
     return 32u - (unsigned)__builtin_clz(x);   /* CLZ on Cortex-M3 */
@@ -28,7 +27,7 @@ uint16_t foc_isqrt32(uint32_t x)
     /* a = 2^h >= sqrt(x) with h = ceil(bits / 2); its Newton step
      * (a + x / a) / 2 costs only a shift and is still >= floor(sqrt(x))
      * (arithmetic-geometric mean), within 25 % of it. */
-    const unsigned h = (bit_length(x) + 1u) >> 1; /* 1..16 */
+    const unsigned h = (foc_bit_length(x) + 1u) >> 1; /* 1..16 */
     uint32_t y = (((uint32_t)1 << h) + (x >> h)) >> 1;
     /* From above, integer Newton decreases strictly until it reaches
      * floor(sqrt(x)), where the next step would not decrease. */

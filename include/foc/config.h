@@ -1094,6 +1094,24 @@ FOC_STATIC_ASSERT(STOP_SPEED_RPM >= 0.0 && STOP_SPEED_RPM < SPEED_BASE_RPM,
 #else
 #define FOC_RS_ADAPT_BUILT (RS_ADAPTATION != 0)
 #endif
+/* The current-sensor gain balance (gain_balance.h): the negative-sequence
+ * impedance Zn = Rs - j w L, L = (Ld + Lq) / 2, in Q15 of 2^FOC_GB_Z_SHIFT
+ * per-unit (Rs, and w L at the speed base: the largest); it learns where
+ * twice the electrical frequency turns at least once in 16 slow ticks
+ * (the voltage's mean then rejects it, and a transient's lag turns away
+ * within the hold) and stays below 0.3 x the slow-tick rate. */
+#define FOC_GB_XL_BASE_PU                                                      \
+    (FOC_WE_BASE_RAD_S * 0.5 * (MOTOR_LD_H + MOTOR_LQ_H) * FOC_I_BASE_A / FOC_V_BASE_V)
+#define FOC_GB_Z_SHIFT                                                         \
+    FOC_GAIN_SHIFT(FOC_RS_PU > FOC_GB_XL_BASE_PU ? FOC_RS_PU : FOC_GB_XL_BASE_PU)
+#define FOC_GB_RS_Z Q15(FOC_RS_PU / (double)(1L << FOC_GB_Z_SHIFT))
+#define FOC_GB_XL_Z Q15(FOC_GB_XL_BASE_PU / (double)(1L << FOC_GB_Z_SHIFT))
+#define FOC_GB_V_TO_Z Q15(1.0 / (double)(1L << FOC_GB_Z_SHIFT)) /* a voltage in that scale */
+#define FOC_GB_MIN_WE_RAD_S (2.0 * FOC_PI_D / (16.0 * FOC_SLOW_TS_S) / 2.0)
+#define FOC_GB_MAX_WE_RAD_S (2.0 * FOC_PI_D * 0.3 / FOC_SLOW_TS_S / 2.0)
+#define FOC_GB_MIN_SPEED Q15(FOC_GB_MIN_WE_RAD_S / FOC_WE_BASE_RAD_S)
+#define FOC_GB_MAX_SPEED Q15(FOC_GB_MAX_WE_RAD_S / FOC_WE_BASE_RAD_S) /* Q15 saturates */
+
 /* Sample to voltage: the voltage computed from the sample of period k is
  * centred SAMPLE_DELAY_PERIODS periods after that sample.  1.5 where the
  * port samples at the start of a period and the duties load at its end

@@ -191,6 +191,7 @@ typedef struct {
 
     foc_current_sense_t current_sense; /* [slow] starts a calibration in */
                                        /* IDLE, [fast] sums in CALIB */
+    foc_gain_balance_t gb;             /* [slow]; [fast] reads its Q15 Gh */
     foc_current_ctrl_t current_ctrl;   /* [fast] (gains [init]) */
     foc_speed_ctrl_t speed_ctrl;       /* [slow] */
     foc_fw_t fw;                       /* [slow] */

@@ -10,6 +10,7 @@
 #define FOC_CURRENT_SENSE_H
 
 #include <stdint.h>
+#include "foc/gain_balance.h"
 #include "foc/port.h"
 #include "foc/transforms.h"
 
@@ -30,33 +31,39 @@ void foc_cs_calib_start(foc_current_sense_t *cs, uint8_t count_log2);
 void foc_cs_calib_add(foc_current_sense_t *cs, const foc_samples_t *s);
 
 /* Offset-corrected alpha/beta current, Q15 of the current base, from the
- * valid phases; with fewer than two valid (no clean sampling window this
- * period) it returns `previous`. */
-static inline foc_ab_t foc_cs_alphabeta(const foc_current_sense_t *cs, const foc_samples_t *s,
-                                        foc_ab_t previous)
+ * valid phases, with the sensors' learned gain mismatch taken out
+ * (gain_balance.h); with fewer than two valid (no clean sampling window
+ * this period) it returns `previous`. */
+static inline foc_ab_t foc_cs_alphabeta(const foc_current_sense_t *cs, const foc_gain_balance_t *gb,
+                                        const foc_samples_t *s, foc_ab_t previous)
 {
     const q15_t a = foc_sub_q15(s->i_a, cs->offset.a);
     const q15_t b = foc_sub_q15(s->i_b, cs->offset.b);
     const q15_t c = foc_sub_q15(s->i_c, cs->offset.c);
-
+    foc_ab_t ab;
     switch (s->phases & (FOC_PHASE_A | FOC_PHASE_B | FOC_PHASE_C)) {
     case FOC_PHASE_A | FOC_PHASE_B:
-        return foc_clarke2_q15(a, b);
+        ab = foc_clarke2_q15(a, b);
+        break;
     case FOC_PHASE_B | FOC_PHASE_C:
-        return foc_clarke2_q15(foc_sat_q15(-(int32_t)b - (int32_t)c), b);
+        ab = foc_clarke2_q15(foc_sat_q15(-(int32_t)b - (int32_t)c), b);
+        break;
     case FOC_PHASE_A | FOC_PHASE_C:
-        return foc_clarke2_q15(a, foc_sat_q15(-(int32_t)a - (int32_t)c));
+        ab = foc_clarke2_q15(a, foc_sat_q15(-(int32_t)a - (int32_t)c));
+        break;
     case FOC_PHASE_A | FOC_PHASE_B | FOC_PHASE_C: {
         const foc_abc_t abc = { a, b, c };
-        return foc_clarke3_q15(abc);
+        ab = foc_clarke3_q15(abc);
+        break;
     }
     default:
         return previous;
     }
+    return foc_gb_correct(gb, ab);
 }
-
 /* The same, out of line, for callers outside the per-period path (the
  * current loop inlines the one above). */
-foc_ab_t foc_cs_read(const foc_current_sense_t *cs, const foc_samples_t *s, foc_ab_t previous);
+foc_ab_t foc_cs_read(const foc_current_sense_t *cs, const foc_gain_balance_t *gb, const foc_samples_t *s,
+                     foc_ab_t previous);
 
 #endif /* FOC_CURRENT_SENSE_H */

@@ -1,6 +1,6 @@
 /*
  * Integer square root, for the voltage circle sqrt(Vmax^2 - Vd^2) and vector
- * magnitudes.  The per-period path compares squares first and takes a root
+ * magnitudes; the bit length it starts from.  The per-period path compares squares first and takes a root
  * only where a limit really binds.
  */
 #ifndef FOC_SQRT_H
@@ -8,6 +8,10 @@
 
 #include <stdint.h>
 #include "foc/q15.h"
+
+/* Number of significant bits of x > 0, 1..32 (CLZ where the compiler
+ * has it). */
+unsigned foc_bit_length(uint32_t x);
 
 /* floor(sqrt(x)) for any 32-bit unsigned x; result fits 16 bits.
  * Newton's iteration from above, seeded from the bit length: three or four

@@ -630,16 +630,18 @@ static void case_current_sense(void)
     s.i_b = (q15_t)(Q15(-0.2) - 250);
     s.i_c = (q15_t)(Q15(-0.3) + 7);
     const foc_ab_t prev = { 1234, -4321 };
+    foc_gain_balance_t gb;
+    foc_gb_init(&gb); /* nothing learned: the sensors taken as matched */
     const uint8_t masks[] = { FOC_PHASE_A | FOC_PHASE_B, FOC_PHASE_B | FOC_PHASE_C,
                               FOC_PHASE_A | FOC_PHASE_C, FOC_PHASE_A | FOC_PHASE_B | FOC_PHASE_C };
     for (size_t m = 0; m < 4; m++) {
         s.phases = masks[m];
-        const foc_ab_t ab = foc_cs_alphabeta(&cs, &s, prev);
+        const foc_ab_t ab = foc_cs_alphabeta(&cs, &gb, &s, prev);
         TK_CHECK(abs(ab.alpha - Q15(0.5)) <= 2 && abs(ab.beta - Q15((0.5 - 0.4) / 1.7320508)) <= 3,
                  "mask %u: %d %d", masks[m], ab.alpha, ab.beta);
     }
     s.phases = FOC_PHASE_B;
-    const foc_ab_t held = foc_cs_alphabeta(&cs, &s, prev);
+    const foc_ab_t held = foc_cs_alphabeta(&cs, &gb, &s, prev);
     TK_CHECK(held.alpha == prev.alpha && held.beta == prev.beta, "one phase: %d %d", held.alpha,
              held.beta);
 }

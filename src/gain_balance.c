@@ -1,0 +1,155 @@
+/* Current-sensor gain balance: see gain_balance.h. */
+#include "foc/gain_balance.h"
+#include "foc/config.h"
+#include "foc/sqrt.h"
+#include "foc/trig.h"
+
+/* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+FOC_STATIC_ASSERT(FOC_GB_Z_SHIFT <= 13 && FOC_GB_MIN_SPEED < FOC_GB_MAX_SPEED,
+                  "gain balance: an impedance beyond 8192 per-unit, or the slow tick too slow "
+                  "for twice the electrical frequency (CONTROL_SLOW_DIVIDER)");
+
+#define GB_LIMIT_Q27 ((int32_t)0x1000000) /* |Gh| per component <= 1/8 */
+#define GB_MEAN_K ((q15_t)256)          /* the means: 1/128 per tick */
+#define GB_TRANSIENT_K ((q15_t)4096)    /* the voltage's deviation: 1/8 */
+#define GB_HOLD_TICKS 128u              /* after a transient: the means' */
+                                        /* time constant */
+/* |W|^2 (Q29) below which the tick holds (|W| < 1/32 of 2^FOC_GB_Z_SHIFT
+ * per-unit): the noise would swamp the mismatch. */
+#define GB_DEN_MIN ((int32_t)0x80000) /* 2^19 */
+/* The step's share 2^-rate: 2^-8 for the first 128 learning ticks, 2^-9
+ * for the next 128, 2^-10 for 256, then 2^-11 (a mean over ever more
+ * ticks: quick to learn, then steady against the noise; the gains do not
+ * change). */
+#define GB_RATE_FIRST_LOG2 8u
+#define GB_RATE_LAST_LOG2 11u
+
+void foc_gb_init(foc_gain_balance_t *gb)
+{
+    const foc_dq_t zero = { 0, 0 };
+    foc_gb_follow(gb, zero, zero);
+    gb->g_re_q27 = 0;
+    gb->g_im_q27 = 0;
+    gb->g_re = 0;
+    gb->g_im = 0;
+    gb->learned = 0;
+}
+
+void foc_gb_follow(foc_gain_balance_t *gb, foc_dq_t v, foc_dq_t i)
+{
+    foc_lpf_init(&gb->vd, v.d);
+    foc_lpf_init(&gb->vq, v.q);
+    foc_lpf_init(&gb->id, i.d);
+    foc_lpf_init(&gb->iq, i.q);
+    foc_lpf_init(&gb->td, 0);
+    foc_lpf_init(&gb->tq, 0);
+    gb->hold = GB_HOLD_TICKS;
+}
+
+/* Q29 product sum or difference -> Q15, saturated. */
+static q15_t q29_to_q15(int32_t x)
+{
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    return foc_sat_q15((x + 0x2000) >> 14);
+}
+
+/* g + step, within +-GB_LIMIT_Q27 (|g|, |step| < 2^30: no overflow). */
+static int32_t learn(int32_t g, int32_t step)
+{
+    const int32_t next = g + step;
+    if (next > GB_LIMIT_Q27) {
+        return GB_LIMIT_Q27;
+    }
+    return (next < -GB_LIMIT_Q27) ? -GB_LIMIT_Q27 : next;
+}
+
+void foc_gb_tick(foc_gain_balance_t *gb, uint16_t theta, foc_dq_t v, foc_dq_t i, q15_t speed)
+{
+    const q15_t vn_d = foc_sub_q15(v.d, foc_lpf_out(&gb->vd));
+    const q15_t vn_q = foc_sub_q15(v.q, foc_lpf_out(&gb->vq));
+    const foc_dq_t i_mean = { foc_lpf_out(&gb->id), foc_lpf_out(&gb->iq) };
+    const int32_t in_d = foc_sub_q15(i.d, i_mean.d);
+    const int32_t in_q = foc_sub_q15(i.q, i_mean.q);
+    (void)foc_lpf_step(&gb->vd, v.d, GB_MEAN_K);
+    (void)foc_lpf_step(&gb->vq, v.q, GB_MEAN_K);
+    (void)foc_lpf_step(&gb->id, i.d, GB_MEAN_K);
+    (void)foc_lpf_step(&gb->iq, i.q, GB_MEAN_K);
+    (void)foc_lpf_step(&gb->td, vn_d, GB_TRANSIENT_K);
+    (void)foc_lpf_step(&gb->tq, vn_q, GB_TRANSIENT_K);
+    const q15_t w = foc_abs_q15(speed);
+    if (w < FOC_GB_MIN_SPEED || w > FOC_GB_MAX_SPEED) {
+        return;
+    }
+    /* Zn = r - j x, Q15 of 2^FOC_GB_Z_SHIFT per-unit */
+    const int32_t r = FOC_GB_RS_Z;
+    const int32_t x = foc_mul_q15(speed, FOC_GB_XL_Z);
+    /* W = Zn conj(I) = (r Id - x Iq) - j (r Iq + x Id) */
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    const int32_t w_re = q29_to_q15(((r * i_mean.d) >> 1) - ((x * i_mean.q) >> 1));
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    const int32_t w_im = -(int32_t)q29_to_q15(((r * i_mean.q) >> 1) + ((x * i_mean.d) >> 1));
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    const int32_t den = ((w_re * w_re) >> 1) + ((w_im * w_im) >> 1); /* |W|^2, Q29 */
+    if (den < GB_DEN_MIN) {
+        return;
+    }
+    /* a transient: the voltage's deviation from its mean, over 8 ticks
+     * (the ripple and the noise averaged out), beyond half of W (the
+     * largest mismatch's share is 0.18 W) holds the learning until the
+     * means have caught up; compared in W's scale, squares (Q29) */
+    const int32_t td = foc_mul_q15(foc_lpf_out(&gb->td), FOC_GB_V_TO_Z);
+    const int32_t tq = foc_mul_q15(foc_lpf_out(&gb->tq), FOC_GB_V_TO_Z);
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    const int32_t t2 = ((td * td) >> 1) + ((tq * tq) >> 1);
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    if (t2 > (den >> 2)) {
+        gb->hold = GB_HOLD_TICKS;
+        return;
+    }
+    if (gb->hold != 0u) {
+        gb->hold--;
+        return;
+    }
+    /* Zn In - Vn before the turn, Q28 of 2^FOC_GB_Z_SHIFT, each term
+     * below 2^28 */
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    const int32_t v_scale = (int32_t)1 << (13 - FOC_GB_Z_SHIFT);
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    const int32_t e_re = ((r * in_d) >> 2) + ((x * in_q) >> 2) - vn_d * v_scale;
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    const int32_t e_im = ((r * in_q) >> 2) - ((x * in_d) >> 2) - vn_q * v_scale;
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    const int32_t e_re15 = foc_sat_q15((e_re + 0x1000) >> 13);
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    const int32_t e_im15 = foc_sat_q15((e_im + 0x1000) >> 13);
+    /* D = that e^{j 2 theta} */
+    const foc_sincos_t sc2 = foc_sincos_q15((uint16_t)(theta * 2u));
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    const int32_t d_re = q29_to_q15(((e_re15 * sc2.cos) >> 1) - ((e_im15 * sc2.sin) >> 1));
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    const int32_t d_im = q29_to_q15(((e_re15 * sc2.sin) >> 1) + ((e_im15 * sc2.cos) >> 1));
+    /* the step D conj(W) / |W|^2 / 2^rate, Q27; |W|^2 >= 2^s */
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    const int32_t num_re = ((d_re * w_re) >> 1) + ((d_im * w_im) >> 1);
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    const int32_t num_im = ((d_im * w_re) >> 1) - ((d_re * w_im) >> 1);
+    /* floor(log2(learned / 128 + 1)) = bit length - 1 */
+    uint8_t rate = (uint8_t)(GB_RATE_FIRST_LOG2 - 1u + foc_bit_length((uint32_t)(gb->learned >> 7) + 1u));
+    if (rate > GB_RATE_LAST_LOG2) {
+        rate = GB_RATE_LAST_LOG2;
+    }
+    if (gb->learned < UINT16_MAX) {
+        gb->learned++;
+    }
+    /* den >= 2^19: the shift is at least 19 + 8 - 27 = 0, taken as 1 */
+    const uint8_t sum = (uint8_t)(foc_bit_length((uint32_t)den) - 1u + rate);
+    const uint8_t shift = (sum > 28u) ? (uint8_t)(sum - 27u) : 1u;
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    gb->g_re_q27 = learn(gb->g_re_q27, num_re >> shift);
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    gb->g_im_q27 = learn(gb->g_im_q27, num_im >> shift);
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    gb->g_re = (q15_t)((gb->g_re_q27 + 0x800) >> 12);
+    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+    gb->g_im = (q15_t)((gb->g_im_q27 + 0x800) >> 12);
+}
