@@ -244,6 +244,12 @@ static double id_at_voltage(const plant_t *p, double rpm, double load_nm, double
 
 /* The speed a command reaches with the load: the command, or, where the
  * voltage runs out with field weakening at -FW_ID_MAX_A, that speed. */
+static double reachable_rpm_at(const plant_t *p, double command_rpm, double load_nm, double v)
+{
+    const double limit = speed_at_voltage(p, load_nm, -FW_ID_MAX_A, v);
+    return fabs(command_rpm) < limit ? command_rpm : copysign(limit, command_rpm);
+}
+
 static double reachable_rpm(const plant_t *p, double command_rpm, double load_nm)
 {
     const double limit = speed_at_voltage(p, load_nm, -FW_ID_MAX_A, V_MAX_V);
@@ -283,7 +289,22 @@ static void field_weakening_max_speed(int mm, double dev_max, double id_tol)
            plant_name(mm), no_load, want_free, loaded, want_loaded, dev_max, peak, id, id_expect,
            id_tol, 100.0 * share);
     TK_CHECK(fabs(no_load - want_free) <= dev_max, "no load %.1f rpm", no_load);
-    TK_CHECK(fabs(loaded - want_loaded) <= dev_max, "loaded %.1f rpm", loaded);
+    /* The switched bridge gives the plant more than the command near the
+     * voltage limit, up to the dead time's fundamental (4/pi) Vdc t_dead
+     * f_pwm, which the compensation adds where the bridge loses less (on
+     * the mismatch at 3496 rpm the plant's steady state at its true
+     * currents needs 13.50 V, 3.6 % above the 13.03 V commanded): there
+     * the speed may lie up to the closed form at that voltage, never
+     * beyond the (clamped) command. */
+    const double upper = ((mm & RUN_REALISTIC) != 0)
+                             ? reachable_rpm_at(&p, MOTOR_MAX_SPEED_RPM, 0.015,
+                                                V_MAX_V + 4.0 / 3.14159265358979323846 *
+                                                              BOARD_VDC_NOMINAL_V * PWM_DEADTIME_S *
+                                                              PWM_FREQUENCY_HZ)
+                             : want_loaded;
+    TK_CHECK(loaded >= want_loaded - dev_max && loaded <= fmin(upper + dev_max, MOTOR_MAX_SPEED_RPM + 1.0),
+             "loaded %.1f rpm (closed form %.1f, at the dead time's extra voltage %.1f)", loaded,
+             want_loaded, upper);
     TK_CHECK(fabs(id - id_expect) <= id_tol, "id %.4f A, closed form %.4f A", id, id_expect);
     TK_CHECK(!limited || share >= 0.5, "speed_limited %.0f %% of the time", 100.0 * share);
     TK_CHECK(peak <= LIMIT_A, "peak %.3f A", peak);
@@ -300,10 +321,12 @@ static void case_field_weakening_max_speed_mismatch(void)
 {
     field_weakening_max_speed(1, 35.0, 0.002);
 }
-/* On `plant realistic`: 0.26 and 0.11 rpm off, id 0.113 A above the
+/* On `plant realistic`: 0.26 and 0.22 rpm off, id 0.117 A above the
  * closed form's -0.944 A (which knows no dead time, sampling instant nor
- * EMF harmonics); on top of the mismatch 0.16 rpm at no load and 68 rpm
- * (2 %) above the closed form's 3376 with the load, id 6 mA off. */
+ * EMF harmonics); on top of the mismatch 0.08 rpm at no load and 3496 rpm
+ * with the load, 120 rpm above the closed form's 3376 at the command's
+ * voltage (68 rpm before the sensors' gain balance freed the voltage their
+ * 2-theta ripple took), id 4 mA off. */
 static void case_field_weakening_max_speed_realistic(void)
 {
     field_weakening_max_speed(RUN_REALISTIC, 1.0, 0.2);
