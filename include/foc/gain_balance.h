@@ -31,15 +31,17 @@
  * 0.32 A at 1000 rpm), twice the electrical frequency turning at least
  * once in 16 ticks (the means reject it; a lag left by a transient turns
  * away) and below 0.3 x the tick rate (no alias): config.h
- * FOC_GB_MIN_SPEED, FOC_GB_MAX_SPEED.  A transient (the voltage off its
- * mean by more than half of W over 8 ticks) holds it for 128 ticks.  The
+ * FOC_GB_MIN_SPEED, FOC_GB_MAX_SPEED; and where the voltage's deviation
+ * from its mean (noise through the current PI, a transient's lag) stays
+ * within |W| / 2.8 in RMS over 16 ticks, else it holds until 128 ticks
+ * after.  The
  * gains are the board's, so Gh stays from run to run, within +-1/8.
  *
  * Measured (tests/unit/test_gain_balance.c, a double-precision loop):
  * without noise Gh within 0.5-2.7 % of the closed form, two shunts or
  * three; with 2 codes of noise within 3-13 % after 4 s, the true negative
  * sequence at 0.05-0.17 of the unbalanced one.  Hurst075 on `plant
- * realistic` (test_sensored): id 76.0 mA peak at 2000 rpm loaded.
+ * realistic` (test_sensored): id 76.6 mA peak at 2000 rpm loaded.
  *
  * Units: currents Q15 of the current base, voltages Q15 of the voltage
  * base, speed Q15 of the speed base; impedances Q15 of 2^FOC_GB_Z_SHIFT
@@ -54,7 +56,7 @@
 typedef struct {
     foc_lpf_q15_t vd, vq; /* [slow] the voltage command's mean, Q15 */
     foc_lpf_q15_t id, iq; /* [slow] the current's, Q15 */
-    foc_lpf_q15_t td, tq; /* [slow] its deviation from it, over 8 ticks */
+    int32_t vn_power;     /* [slow] |its deviation|^2 over 16 ticks, Q29 */
     int32_t g_re_q27;     /* [slow] Gh, Q27, within +-1/8 */
     int32_t g_im_q27;
     q15_t g_re;           /* [slow] the same in Q15, read by the fast */

@@ -292,8 +292,8 @@ static void field_weakening_max_speed(int mm, double dev_max, double id_tol)
     /* The switched bridge gives the plant more than the command near the
      * voltage limit, up to the dead time's fundamental (4/pi) Vdc t_dead
      * f_pwm, which the compensation adds where the bridge loses less (on
-     * the mismatch at 3496 rpm the plant's steady state at its true
-     * currents needs 13.50 V, 3.6 % above the 13.03 V commanded): there
+     * the mismatch at 3485 rpm the plant's steady state at its true
+     * currents needs 13.48 V, 3.6 % above the 13.01 V commanded): there
      * the speed may lie up to the closed form at that voltage, never
      * beyond the (clamped) command. */
     const double upper = ((mm & RUN_REALISTIC) != 0)
@@ -321,12 +321,12 @@ static void case_field_weakening_max_speed_mismatch(void)
 {
     field_weakening_max_speed(1, 35.0, 0.002);
 }
-/* On `plant realistic`: 0.26 and 0.22 rpm off, id 0.117 A above the
+/* On `plant realistic`: 0.25 and 0.04 rpm off, id 0.106 A above the
  * closed form's -0.944 A (which knows no dead time, sampling instant nor
- * EMF harmonics); on top of the mismatch 0.08 rpm at no load and 3496 rpm
- * with the load, 120 rpm above the closed form's 3376 at the command's
+ * EMF harmonics); on top of the mismatch 0.09 rpm at no load and 3485 rpm
+ * with the load, 108 rpm above the closed form's 3376 at the command's
  * voltage (68 rpm before the sensors' gain balance freed the voltage their
- * 2-theta ripple took), id 4 mA off. */
+ * 2-theta ripple took), id 11 mA off. */
 static void case_field_weakening_max_speed_realistic(void)
 {
     field_weakening_max_speed(RUN_REALISTIC, 1.0, 0.2);

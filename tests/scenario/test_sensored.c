@@ -131,28 +131,28 @@ static void id_stays_zero(int mm, const double band_a[5])
 
 #define ID_BAND_A (0.02 * FOC_I_BASE_A) /* the issue's +-2 % of the current base */
 
-/* Measured: 3.4, 26.0, 21.7, 3.0, 5.1 mA (the loaded windows 0.6-1.0 s
- * the larger): the issue's 88 mA for the loaded ones (3.4 x, 4.1 x),
- * 15 mA for the others (2.9-5 x). */
+/* Measured: 3.4, 25.4, 21.0, 2.8, 5.0 mA (the loaded windows 0.6-1.0 s
+ * the larger): the issue's 88 mA for the loaded ones (3.5 x, 4.2 x),
+ * 15 mA for the others (3-5 x). */
 static void case_id_stays_zero(void)
 {
     const double band[5] = { 0.015, ID_BAND_A, ID_BAND_A, 0.015, 0.015 };
     id_stays_zero(0, band);
 }
-/* Measured: 25.3, 50.2, 46.2, 28.4, 35.9 mA (the ADC noise): the issue's
+/* Measured: 25.3, 46.1, 49.3, 28.0, 36.1 mA (the ADC noise): the issue's
  * 88 mA (1.8-3.5 x). */
 static void case_id_stays_zero_mismatch(void)
 {
     const double band[5] = { ID_BAND_A, ID_BAND_A, ID_BAND_A, ID_BAND_A, ID_BAND_A };
     id_stays_zero(1, band);
 }
-/* On `plant realistic`: 25.2, 70.0, 76.0, 40.8, 39.6 mA (93.7 mA at
+/* On `plant realistic`: 25.2, 71.5, 76.6, 39.1, 27.3 mA (93.7 mA at
  * 2000 rpm loaded before the sensors' gain balance, gain_balance.h, took
- * out their 2-theta ripple): the issue's 88 mA (1.2-3.5 x).  On top of the
- * mismatch 34.7, 77.4, 91.0, 43.4, 25.5 mA: still 3 mA beyond it at
+ * out their 2-theta ripple): the issue's 88 mA (1.15-3.5 x).  On top of the
+ * mismatch 34.7, 74.8, 91.8, 45.1, 33.6 mA: still 4 mA beyond it at
  * 2000 rpm loaded, where the current loop (1 kHz) meets the EMF
- * harmonics' 6th (1 kHz; without them 58.1 mA, focsim); 0.11 A there
- * (1.2-1.4 x, was 0.14 A), 88 mA elsewhere. */
+ * harmonics' 6th (1 kHz; without them 61.0 mA, focsim); 0.11 A there
+ * (1.2-1.5 x, was 0.14 A), 88 mA elsewhere. */
 static void case_id_stays_zero_realistic(void)
 {
     const double band[5] = { ID_BAND_A, ID_BAND_A, ID_BAND_A, ID_BAND_A, ID_BAND_A };
