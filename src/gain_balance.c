@@ -44,13 +44,6 @@ void foc_gb_follow(foc_gain_balance_t *gb, foc_dq_t v, foc_dq_t i)
     gb->hold = GB_HOLD_TICKS;
 }
 
-/* Q29 product sum or difference -> Q15, saturated. */
-static q15_t q29_to_q15(int32_t x)
-{
-    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-    return foc_sat_q15((x + 0x2000) >> 14);
-}
-
 /* g + step, within +-GB_LIMIT_Q27 (|g|, |step| < 2^30: no overflow). */
 static int32_t learn(int32_t g, int32_t step)
 {
@@ -73,10 +66,9 @@ void foc_gb_tick(foc_gain_balance_t *gb, uint16_t theta, foc_dq_t v, foc_dq_t i,
     (void)foc_lpf_step(&gb->id, i.d, GB_MEAN_K);
     (void)foc_lpf_step(&gb->iq, i.q, GB_MEAN_K);
     /* the voltage's deviation, |vn|^2 in W's scale (Q29), over 16 ticks */
-    const int32_t vz_d = foc_mul_q15(vn_d, FOC_GB_V_TO_Z);
-    const int32_t vz_q = foc_mul_q15(vn_q, FOC_GB_V_TO_Z);
-    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-    const int32_t vn2 = ((vz_d * vz_d) >> 1) + ((vz_q * vz_q) >> 1);
+    const q15_t vz_d = foc_mul_q15(vn_d, FOC_GB_V_TO_Z);
+    const q15_t vz_q = foc_mul_q15(vn_q, FOC_GB_V_TO_Z);
+    const int32_t vn2 = foc_mul_q29(vz_d, vz_d) + foc_mul_q29(vz_q, vz_q);
     /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     gb->vn_power += (vn2 - gb->vn_power) >> 4;
     const q15_t w = foc_abs_q15(speed);
@@ -84,15 +76,12 @@ void foc_gb_tick(foc_gain_balance_t *gb, uint16_t theta, foc_dq_t v, foc_dq_t i,
         return;
     }
     /* Zn = r - j x, Q15 of 2^FOC_GB_Z_SHIFT per-unit */
-    const int32_t r = FOC_GB_RS_Z;
-    const int32_t x = foc_mul_q15(speed, FOC_GB_XL_Z);
+    const q15_t r = FOC_GB_RS_Z;
+    const q15_t x = foc_mul_q15(speed, FOC_GB_XL_Z);
     /* W = Zn conj(I) = (r Id - x Iq) - j (r Iq + x Id) */
-    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-    const int32_t w_re = q29_to_q15(((r * i_mean.d) >> 1) - ((x * i_mean.q) >> 1));
-    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-    const int32_t w_im = -(int32_t)q29_to_q15(((r * i_mean.q) >> 1) + ((x * i_mean.d) >> 1));
-    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-    const int32_t den = ((w_re * w_re) >> 1) + ((w_im * w_im) >> 1); /* |W|^2, Q29 */
+    const q15_t w_re = foc_q29_to_q15(foc_mul_q29(r, i_mean.d) - foc_mul_q29(x, i_mean.q));
+    const q15_t w_im = foc_sat_q15(-(int32_t)foc_q29_to_q15(foc_mul_q29(r, i_mean.q) + foc_mul_q29(x, i_mean.d)));
+    const int32_t den = foc_mul_q29(w_re, w_re) + foc_mul_q29(w_im, w_im); /* |W|^2, Q29 */
     if (den < GB_DEN_MIN) {
         return;
     }
@@ -115,24 +104,20 @@ void foc_gb_tick(foc_gain_balance_t *gb, uint16_t theta, foc_dq_t v, foc_dq_t i,
     /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     const int32_t v_scale = (int32_t)1 << (13 - FOC_GB_Z_SHIFT);
     /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-    const int32_t e_re = ((r * in_d) >> 2) + ((x * in_q) >> 2) - vn_d * v_scale;
+    const int32_t e_re = (((int32_t)r * in_d) >> 2) + (((int32_t)x * in_q) >> 2) - vn_d * v_scale;
     /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-    const int32_t e_im = ((r * in_q) >> 2) - ((x * in_d) >> 2) - vn_q * v_scale;
+    const int32_t e_im = (((int32_t)r * in_q) >> 2) - (((int32_t)x * in_d) >> 2) - vn_q * v_scale;
     /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-    const int32_t e_re15 = foc_sat_q15((e_re + 0x1000) >> 13);
+    const q15_t e_re15 = foc_sat_q15((e_re + 0x1000) >> 13);
     /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-    const int32_t e_im15 = foc_sat_q15((e_im + 0x1000) >> 13);
+    const q15_t e_im15 = foc_sat_q15((e_im + 0x1000) >> 13);
     /* D = that e^{j 2 theta} */
     const foc_sincos_t sc2 = foc_sincos_q15((uint16_t)(theta * 2u));
-    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-    const int32_t d_re = q29_to_q15(((e_re15 * sc2.cos) >> 1) - ((e_im15 * sc2.sin) >> 1));
-    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-    const int32_t d_im = q29_to_q15(((e_re15 * sc2.sin) >> 1) + ((e_im15 * sc2.cos) >> 1));
+    const q15_t d_re = foc_q29_to_q15(foc_mul_q29(e_re15, sc2.cos) - foc_mul_q29(e_im15, sc2.sin));
+    const q15_t d_im = foc_q29_to_q15(foc_mul_q29(e_re15, sc2.sin) + foc_mul_q29(e_im15, sc2.cos));
     /* the step D conj(W) / |W|^2 / 2^rate, Q27; |W|^2 >= 2^s */
-    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-    const int32_t num_re = ((d_re * w_re) >> 1) + ((d_im * w_im) >> 1);
-    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-    const int32_t num_im = ((d_im * w_re) >> 1) - ((d_re * w_im) >> 1);
+    const int32_t num_re = foc_mul_q29(d_re, w_re) + foc_mul_q29(d_im, w_im);
+    const int32_t num_im = foc_mul_q29(d_im, w_re) - foc_mul_q29(d_re, w_im);
     /* floor(log2(learned / 128 + 1)) = bit length - 1 */
     uint8_t rate = (uint8_t)(GB_RATE_FIRST_LOG2 - 1u + foc_bit_length((uint32_t)(gb->learned >> 7) + 1u));
     if (rate > GB_RATE_LAST_LOG2) {

@@ -61,6 +61,7 @@ static inline foc_ab_t foc_cs_alphabeta(const foc_current_sense_t *cs, const foc
     }
     return foc_gb_correct(gb, ab);
 }
+
 /* The same, out of line, for callers outside the per-period path (the
  * current loop inlines the one above). */
 foc_ab_t foc_cs_read(const foc_current_sense_t *cs, const foc_gain_balance_t *gb, const foc_samples_t *s,

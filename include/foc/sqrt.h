@@ -1,7 +1,7 @@
 /*
  * Integer square root, for the voltage circle sqrt(Vmax^2 - Vd^2) and vector
- * magnitudes; the bit length it starts from.  The per-period path compares squares first and takes a root
- * only where a limit really binds.
+ * magnitudes; the bit length it starts from.  The per-period path compares
+ * squares first and takes a root only where a limit really binds.
  */
 #ifndef FOC_SQRT_H
 #define FOC_SQRT_H
