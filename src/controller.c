@@ -968,12 +968,31 @@ static q15_t salient_id(const foc_ctrl_t *c, q15_t id_fw, q15_t iq)
     return (id_mtpa < id_fw) ? id_mtpa : id_fw;
 }
 
-/* The d reference in RUN: field weakening's (or MTPA's) plus the hand-over's
- * fading share, held within the current limit (the two together reached
- * 1.15 x the limit: tests/fuzz/findings/run_id_beyond_limit). */
+/* Sensorless with the dead-time compensation on, a light load's d current:
+ * what |iq| lacks of the floor, FOC_DT_MIN_CURRENT or less at low speed
+ * (config.h), else 0. */
+static q15_t dt_floor_id(const foc_ctrl_t *c, q15_t iq)
+{
+    if (c->opt.deadtime_comp == 0u || c->est.use_sensor != 0u) {
+        return 0;
+    }
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    const q15_t by_speed = foc_mul_q15_shift(foc_abs_q15(c->est.speed), FOC_DT_MIN_PER_SPEED_MANT,
+                                             FOC_DT_MIN_PER_SPEED_SHIFT);
+    const q15_t floor = (by_speed < FOC_DT_MIN_CURRENT) ? by_speed : FOC_DT_MIN_CURRENT;
+    const q15_t short_of = foc_sub_q15(floor, foc_abs_q15(iq));
+    return (short_of > 0) ? (q15_t)-short_of : 0;
+}
+
+/* The d reference in RUN: field weakening's (or MTPA's), or the dead-time
+ * floor's if more negative, plus the hand-over's fading share, held within
+ * the current limit (the two together reached 1.15 x the limit:
+ * tests/fuzz/findings/run_id_beyond_limit). */
 static q15_t run_id(const foc_ctrl_t *c, q15_t id_fw, q15_t iq)
 {
-    const q15_t id = foc_add_q15(salient_id(c, id_fw, iq), c->handover_id);
+    const q15_t id_load = salient_id(c, id_fw, iq);
+    const q15_t id_floor = dt_floor_id(c, iq);
+    const q15_t id = foc_add_q15((id_floor < id_load) ? id_floor : id_load, c->handover_id);
     return (id < -FOC_CURRENT_LIMIT) ? (q15_t)-FOC_CURRENT_LIMIT
            : (id > FOC_CURRENT_LIMIT) ? FOC_CURRENT_LIMIT : id;
 }

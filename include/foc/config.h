@@ -653,6 +653,23 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
 #define FOC_DT_INV_RIPPLE_PU (FOC_I_BASE_A / FOC_DT_RIPPLE_BAND_A)
 #define FOC_DT_INV_RIPPLE_MANT FOC_GAIN_MANT(FOC_DT_INV_RIPPLE_PU)
 #define FOC_DT_INV_RIPPLE_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_DT_INV_RIPPLE_PU))
+/* The least current the sensorless drive keeps in the windings while the
+ * compensation is on: a light load's phase currents stay inside the soft
+ * band, where the bridge's dead-time error (a step at each current's sign
+ * within the ripple) and its compensation (a slope across the band)
+ * disagree, and that voltage error lies in every estimator's back-EMF
+ * (docs/estimators.md, "Near zero current").  The d current makes up
+ * what |iq| lacks; 0 turns it off.  It is held to an ohmic drop of 1/8 of
+ * the back-EMF at the estimated speed: the estimators' Rs error times that
+ * d current lies across the EMF, so an Rs off by 30 % turns the angle by
+ * at most 2 deg (at low speed the floor fades with the EMF). */
+#ifndef DEADTIME_MIN_CURRENT_A
+#define DEADTIME_MIN_CURRENT_A (2.0 * DEADTIME_COMP_CURRENT_A)
+#endif
+#define FOC_DT_MIN_CURRENT FOC_I_Q15(DEADTIME_MIN_CURRENT_A)
+#define FOC_DT_MIN_PER_SPEED_PU (FOC_KFI_PU / (4.0 * FOC_RS_PU))
+#define FOC_DT_MIN_PER_SPEED_MANT FOC_GAIN_MANT(FOC_DT_MIN_PER_SPEED_PU)
+#define FOC_DT_MIN_PER_SPEED_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_DT_MIN_PER_SPEED_PU))
 #define FOC_DT_INV_SOFT_MANT FOC_GAIN_MANT(FOC_DT_INV_SOFT_PU)
 #define FOC_DT_INV_SOFT_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_DT_INV_SOFT_PU))
 
@@ -1038,6 +1055,8 @@ FOC_STATIC_ASSERT(PWM_DEADTIME_S >= 0.0 && PWM_DEADTIME_S * PWM_FREQUENCY_HZ < 0
                   "PWM_DEADTIME_S must be under 10 % of the PWM period");
 FOC_STATIC_ASSERT(DEADTIME_COMP_CURRENT_A > 0.0 && FOC_DT_INV_SOFT_PU < 32768.0,
                   "DEADTIME_COMP_CURRENT_A out of range");
+FOC_STATIC_ASSERT(DEADTIME_MIN_CURRENT_A >= 0.0 && DEADTIME_MIN_CURRENT_A <= CURRENT_LIMIT_A / 4.0,
+                  "DEADTIME_MIN_CURRENT_A must be 0 .. CURRENT_LIMIT_A / 4");
 FOC_STATIC_ASSERT(FOC_DT_INV_RIPPLE_PU < 32768.0,
                   "PWM ripple band too narrow for the per-unit format (MOTOR_LD_H/LQ_H)");
 FOC_STATIC_ASSERT(STARTUP_CONV_TESTS >= 1 && STARTUP_CONV_TESTS <= 255,
@@ -1130,11 +1149,18 @@ FOC_STATIC_ASSERT(SAMPLE_DELAY_PERIODS >= 1.0 && SAMPLE_DELAY_PERIODS <= 1.5,
 #ifndef CATCH_TIME_S
 #define CATCH_TIME_S 0.04 /* start: time the estimator looks for a turning rotor */
 #endif
-/* CATCH lasts at least the speed statistic's 64 slow ticks; while the
- * estimate says the rotor turns but is not yet steady (its first samples
- * hold the estimator's own convergence), it waits up to twice as long. */
+/* CATCH lasts at least the speed statistic's 64 slow ticks after five
+ * time constants of the slowest speed estimate's filter (its samples from
+ * the estimator's start at zero speed would pull the mean under the
+ * start-up minimum); while the estimate says the rotor turns but is not
+ * yet steady, it waits up to twice as long. */
+#define FOC_MAX_D(a, b) ((a) > (b) ? (a) : (b))
+#define FOC_SPEED_EST_TAU_S                                                    \
+    FOC_MAX_D(FOC_MAX_D(PLL_SPEED_FILTER_TIME_S, LUENBERGER_SPEED_FILTER_TIME_S), \
+              1.0 / FLUX_SPEED_OBS_BW_RAD_S)
+#define FOC_CATCH_MIN_TICKS ((uint16_t)(64u + FOC_TICKS(5.0 * FOC_SPEED_EST_TAU_S)))
 #define FOC_CATCH_TICKS                                                        \
-    (FOC_TICKS(CATCH_TIME_S) > 64u ? FOC_TICKS(CATCH_TIME_S) : (uint16_t)64u)
+    (FOC_TICKS(CATCH_TIME_S) > FOC_CATCH_MIN_TICKS ? FOC_TICKS(CATCH_TIME_S) : FOC_CATCH_MIN_TICKS)
 #define FOC_CATCH_MAX_TICKS ((uint16_t)(2u * FOC_CATCH_TICKS))
 /* CATCH's probe (controller.c, catch_probe): two shorts of the windings,
  * each after FOC_PROBE_OFF_PERIODS with the bridge off, so
