@@ -55,18 +55,15 @@ Formulas (SI units; p pole pairs, psi flux linkage, fs PWM frequency):
                        bandwidth follows the speed; back-EMF filter 0.2 ms
                        (AN1292), shorter where the top speed would leave
                        the loop under 30 deg of phase margin
-                       (pll_emf_filter_s: 3.46 / w_e,top)
-  speed estimate       filter min(3 ms, 1.2 / wb) on the PLL's and the
-                       Luenberger's speed, the flux estimator's speed
-                       observer at its inverse: at 1 ms (the template's
-                       before) the Hurst075's speed loop turned the
-                       estimates' ripple into a hunting rotor
-                       (docs/estimators.md, "Speed estimate's filter")
+                       (pll_emf_filter_s: 3.46 / w_e,top); speed filter
+                       the template's 1 ms
   flux estimator       the template's: correction FLUX_CORR_PER_SPEED x
                        |w_e| (+ FLUX_CORR_MIN_RAD_S), flux learning
                        FLUX_MAG_PER_SPEED x |w_e|, both following the speed
                        by themselves; speed observer poles at
-                       FLUX_SPEED_OBS_BW_RAD_S (above); formats checked
+                       FLUX_SPEED_OBS_BW_RAD_S (800 rad/s, above every
+                       speed loop the tool derives: 600 at most); formats
+                       checked
   low speed, start-up  n_low: speed whose phase back-EMF is 15 % of the
                        voltage base Vdc/sqrt(3) = PLL_LOW_SPEED_RPM =
                        STARTUP_FINAL_SPEED_RPM; minimum 1/2, sensored
@@ -109,9 +106,6 @@ L_ERROR_ENVELOPE = 0.5              # |plant L / parameter - 1| the estimators m
 SPEED_LAG_PHASE = 0.3               # rad the fake speed of an L error may cost the speed loop
 SPEED_BW_MIN = 50.0                 # rad/s: the fan at 37 lost the follow checks (seeds 2039, 3131),
                                     # at 150 it hunted on a 3 % resistance error (docs/safety.md)
-SPEED_EST_FILTER_S = 3.0e-3         # s: the speed estimate's filter (PLL, Luenberger; the flux
-                                    # estimator's observer at its inverse), unless the speed loop
-SPEED_EST_FILTER_LAG = 1.2          # is faster than this / the filter (rad of lag at wb)
 CURRENT_DIST_RATIO = 0.5            # config.h's default: the current PIs' disturbance pole / wc
 DEFAULT_FW_BW = 160.0               # rad/s
 PLL_EMF_FILTER_S = 0.2e-3           # AN1292's back-EMF filter, unless the top speed needs less:
@@ -741,10 +735,6 @@ def choose(motor, board, opt):
 
     # observers
     put("PLL_EMF_FILTER_TIME_S", pll_emf_filter_s(fe_top * 2.0 * math.pi))
-    t_speed = min(SPEED_EST_FILTER_S, SPEED_EST_FILTER_LAG / wb)
-    put("PLL_SPEED_FILTER_TIME_S", t_speed, 2)
-    put("LUENBERGER_SPEED_FILTER_TIME_S", t_speed, 2)
-    put("FLUX_SPEED_OBS_BW_RAD_S", 1.0 / t_speed, 3)
     # the observer's winding model is Lq (config.h FOC_LUEN_LS_H: the
     # extended-EMF form), so its poles are placed with Lq
     wo = opt.observer_bw_rad_s or observer_bw(rs, lq, fs, fe_top * 2.0 * math.pi)

@@ -103,7 +103,7 @@
  * speed; below PLL_LOW_SPEED_RPM the back-EMF is averaged over 8 periods
  * (the L di/dt term is then a difference over 8 samples). */
 #define PLL_EMF_FILTER_TIME_S       0.2e-3
-#define PLL_SPEED_FILTER_TIME_S     3.0e-3
+#define PLL_SPEED_FILTER_TIME_S     1.0e-3
 #define PLL_LOW_SPEED_RPM           640.0
 /* Flux-linkage estimator (Wang/Luo/Guo): the integrated flux is pulled
  * toward a circle at FLUX_CORR_MIN_RAD_S + FLUX_CORR_PER_SPEED x |electrical
@@ -118,7 +118,7 @@
 #define FLUX_CORR_MIN_RAD_S         30.0
 #define FLUX_CORR_PER_SPEED         1.5
 #define FLUX_MAG_PER_SPEED          0.075
-#define FLUX_SPEED_OBS_BW_RAD_S     333.0
+#define FLUX_SPEED_OBS_BW_RAD_S     800.0
 /* Luenberger observer + PLL (ST, docs/references.md [ST-FOC]).  K1, K2: the observer's
  * current-error gains, in ST's physical units, placed so that the observer
  * error obeys s^2 + (Rs/Ls - K1) s + K2/Ls = 0 with a double pole at the
@@ -148,7 +148,7 @@
 #define LUENBERGER_PLL_KI                                                      \
     (1506742.0 * MOTOR_MAX_SPEED_RPM * MOTOR_POLE_PAIRS /                      \
      (PWM_FREQUENCY_HZ * PWM_FREQUENCY_HZ))
-#define LUENBERGER_SPEED_FILTER_TIME_S 3.0e-3  /* speed output filter, s */
+#define LUENBERGER_SPEED_FILTER_TIME_S 1.0e-3  /* speed output filter, s */
 /* Sensored start (host test aid, boards with a position sensor): closed
  * loop on the sensor until this speed, then on the estimator. */
 #define SENSORED_HANDOVER_RPM       380.0

@@ -659,10 +659,13 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
  * within the ripple) and its compensation (a slope across the band)
  * disagree, and that voltage error lies in every estimator's back-EMF
  * (docs/estimators.md, "Near zero current").  The d current makes up
- * what |iq| lacks; 0 turns it off.  It is held to an ohmic drop of 1/8 of
- * the back-EMF at the estimated speed: the estimators' Rs error times that
- * d current lies across the EMF, so an Rs off by 30 % turns the angle by
- * at most 2 deg (at low speed the floor fades with the EMF). */
+ * what |iq| lacks; 0 turns it off.  Not below the dead time's command
+ * floor FOC_DT_FLOOR_RPM (the estimators' own low-speed range, where the
+ * floor's Rs error costs more than it gains: the flux estimator's lowest
+ * steady speed on `plant realistic` went from 125 to 250 rpm), full from
+ * 1.25 x that speed; and held to an ohmic drop of 1/4 of the back-EMF at
+ * the estimated speed: the estimators' Rs error times that d current lies
+ * across the EMF, so an Rs off by 30 % turns the angle by at most 4 deg. */
 #ifndef DEADTIME_MIN_CURRENT_A
 #define DEADTIME_MIN_CURRENT_A (2.0 * DEADTIME_COMP_CURRENT_A)
 #endif
@@ -670,6 +673,11 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
 #define FOC_DT_MIN_PER_SPEED_PU (FOC_KFI_PU / (4.0 * FOC_RS_PU))
 #define FOC_DT_MIN_PER_SPEED_MANT FOC_GAIN_MANT(FOC_DT_MIN_PER_SPEED_PU)
 #define FOC_DT_MIN_PER_SPEED_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_DT_MIN_PER_SPEED_PU))
+#define FOC_DT_MIN_FROM FOC_SPEED_Q15(FOC_DT_FLOOR_RPM)
+#define FOC_DT_MIN_RAMP_PU                                                     \
+    (DEADTIME_MIN_CURRENT_A / FOC_I_BASE_A / (0.25 * (FOC_DT_FLOOR_RPM + 1.0) / SPEED_BASE_RPM))
+#define FOC_DT_MIN_RAMP_MANT FOC_GAIN_MANT(FOC_DT_MIN_RAMP_PU)
+#define FOC_DT_MIN_RAMP_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_DT_MIN_RAMP_PU))
 #define FOC_DT_INV_SOFT_MANT FOC_GAIN_MANT(FOC_DT_INV_SOFT_PU)
 #define FOC_DT_INV_SOFT_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_DT_INV_SOFT_PU))
 
@@ -1149,18 +1157,11 @@ FOC_STATIC_ASSERT(SAMPLE_DELAY_PERIODS >= 1.0 && SAMPLE_DELAY_PERIODS <= 1.5,
 #ifndef CATCH_TIME_S
 #define CATCH_TIME_S 0.04 /* start: time the estimator looks for a turning rotor */
 #endif
-/* CATCH lasts at least the speed statistic's 64 slow ticks after five
- * time constants of the slowest speed estimate's filter (its samples from
- * the estimator's start at zero speed would pull the mean under the
- * start-up minimum); while the estimate says the rotor turns but is not
- * yet steady, it waits up to twice as long. */
-#define FOC_MAX_D(a, b) ((a) > (b) ? (a) : (b))
-#define FOC_SPEED_EST_TAU_S                                                    \
-    FOC_MAX_D(FOC_MAX_D(PLL_SPEED_FILTER_TIME_S, LUENBERGER_SPEED_FILTER_TIME_S), \
-              1.0 / FLUX_SPEED_OBS_BW_RAD_S)
-#define FOC_CATCH_MIN_TICKS ((uint16_t)(64u + FOC_TICKS(5.0 * FOC_SPEED_EST_TAU_S)))
+/* CATCH lasts at least the speed statistic's 64 slow ticks; while the
+ * estimate says the rotor turns but is not yet steady (its first samples
+ * hold the estimator's own convergence), it waits up to twice as long. */
 #define FOC_CATCH_TICKS                                                        \
-    (FOC_TICKS(CATCH_TIME_S) > FOC_CATCH_MIN_TICKS ? FOC_TICKS(CATCH_TIME_S) : FOC_CATCH_MIN_TICKS)
+    (FOC_TICKS(CATCH_TIME_S) > 64u ? FOC_TICKS(CATCH_TIME_S) : (uint16_t)64u)
 #define FOC_CATCH_MAX_TICKS ((uint16_t)(2u * FOC_CATCH_TICKS))
 /* CATCH's probe (controller.c, catch_probe): two shorts of the windings,
  * each after FOC_PROBE_OFF_PERIODS with the bridge off, so
