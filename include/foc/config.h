@@ -654,20 +654,25 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
 #define FOC_DT_INV_RIPPLE_MANT FOC_GAIN_MANT(FOC_DT_INV_RIPPLE_PU)
 #define FOC_DT_INV_RIPPLE_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_DT_INV_RIPPLE_PU))
 /* The least current the sensorless drive keeps in the windings while the
- * compensation is on: a light load's phase currents stay inside the soft
- * band, where the bridge's dead-time error (a step at each current's sign
- * within the ripple) and its compensation (a slope across the band)
- * disagree, and that voltage error lies in every estimator's back-EMF
- * (docs/estimators.md, "Near zero current").  The d current makes up
- * what |iq| lacks; 0 turns it off.  Not below the dead time's command
- * floor FOC_DT_FLOOR_RPM (the estimators' own low-speed range, where the
- * floor's Rs error costs more than it gains: the flux estimator's lowest
- * steady speed on `plant realistic` went from 125 to 250 rpm), full from
- * 1.25 x that speed; and held to an ohmic drop of 1/4 of the back-EMF at
- * the estimated speed: the estimators' Rs error times that d current lies
- * across the EMF, so an Rs off by 30 % turns the angle by at most 4 deg. */
+ * compensation and field weakening are on (controller.c dt_floor_id): the
+ * d current makes up what the load's q current lacks.  Where the PWM
+ * ripple band is narrow, a light load's phase currents sit where the
+ * bridge's dead-time error is nearly a step at each current's sign, which
+ * neither the compensation nor the estimators' model (the band's slope)
+ * follows, and the estimates ripple (docs/estimators.md, "Near zero
+ * current").  By default twice the soft band where the ripple band is
+ * under half of it (the Hurst075: 52 mA), else 0: with a wide band the
+ * error is the slope the estimators model, and the floor's d current only
+ * turns its residual into angle (the Shinano LA052, band 0.21 A, at 500
+ * rpm: 0.47 -> 1.67 deg).  It is 0 up to the dead time's command floor
+ * FOC_DT_FLOOR_RPM (the flux estimator's lowest steady speed on `plant
+ * realistic` went from 125 to 250 rpm with it there), full from 1.25 x
+ * that speed, and at most the current whose ohmic drop is 1/4 of the
+ * back-EMF: an Rs error times the floor's d current lies across the EMF,
+ * so an Rs off by 30 % turns the angle by at most 4 deg. */
 #ifndef DEADTIME_MIN_CURRENT_A
-#define DEADTIME_MIN_CURRENT_A (2.0 * DEADTIME_COMP_CURRENT_A)
+#define DEADTIME_MIN_CURRENT_A                                                 \
+    ((FOC_DT_RIPPLE_BAND_A < DEADTIME_COMP_CURRENT_A / 2.0) ? 2.0 * DEADTIME_COMP_CURRENT_A : 0.0)
 #endif
 #define FOC_DT_MIN_CURRENT FOC_I_Q15(DEADTIME_MIN_CURRENT_A)
 #define FOC_DT_MIN_PER_SPEED_PU (FOC_KFI_PU / (4.0 * FOC_RS_PU))
@@ -1065,6 +1070,8 @@ FOC_STATIC_ASSERT(DEADTIME_COMP_CURRENT_A > 0.0 && FOC_DT_INV_SOFT_PU < 32768.0,
                   "DEADTIME_COMP_CURRENT_A out of range");
 FOC_STATIC_ASSERT(DEADTIME_MIN_CURRENT_A >= 0.0 && DEADTIME_MIN_CURRENT_A <= CURRENT_LIMIT_A / 4.0,
                   "DEADTIME_MIN_CURRENT_A must be 0 .. CURRENT_LIMIT_A / 4");
+FOC_STATIC_ASSERT(FOC_DT_MIN_RAMP_PU < 32768.0 && FOC_DT_MIN_PER_SPEED_PU < 32768.0,
+                  "DEADTIME_MIN_CURRENT_A: the floor's slopes beyond the gain format");
 FOC_STATIC_ASSERT(FOC_DT_INV_RIPPLE_PU < 32768.0,
                   "PWM ripple band too narrow for the per-unit format (MOTOR_LD_H/LQ_H)");
 FOC_STATIC_ASSERT(STARTUP_CONV_TESTS >= 1 && STARTUP_CONV_TESTS <= 255,
