@@ -970,9 +970,9 @@ static q15_t salient_id(const foc_ctrl_t *c, q15_t id_fw, q15_t iq)
 
 /* Sensorless with the dead-time compensation and field weakening on, a
  * light load's d current: what the load's q current lacks of the floor
- * (config.h FOC_DT_MIN_CURRENT: 0 below the dead time's command floor,
- * rising to it over a quarter of that speed, at most 1/4 of the EMF's
- * ohmic current), else 0.  The load's current is the speed PI's
+ * (config.h FOC_DT_MIN_CURRENT: 0 up to 1.25 x the dead time's command
+ * floor, rising to it over a quarter of that speed, at most 1/4 of the
+ * EMF's ohmic current), else 0.  The load's current is the speed PI's
  * integrator and the speed its ramped reference: taken from the q current
  * and the estimate, the floor's d current followed their ripple, and the
  * estimators' inductance error turned that into speed ripple (the Shinano

@@ -664,12 +664,14 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
  * under half of it (the Hurst075: 52 mA), else 0: with a wide band the
  * error is the slope the estimators model, and the floor's d current only
  * turns its residual into angle (the Shinano LA052, band 0.21 A, at 500
- * rpm: 0.47 -> 1.67 deg).  It is 0 up to the dead time's command floor
- * FOC_DT_FLOOR_RPM (the flux estimator's lowest steady speed on `plant
- * realistic` went from 125 to 250 rpm with it there), full from 1.25 x
- * that speed, and at most the current whose ohmic drop is 1/4 of the
- * back-EMF: an Rs error times the floor's d current lies across the EMF,
- * so an Rs off by 30 % turns the angle by at most 4 deg. */
+ * rpm: 0.47 -> 1.67 deg).  It is 0 up to 1.25 x the dead time's command
+ * floor FOC_DT_FLOOR_RPM (439 rpm on the Hurst075: from the floor itself
+ * the lowest steady speeds of docs/estimators.md's walk on `plant
+ * realistic`, which starts at 400 rpm, fell from 300 to 400 rpm for the
+ * Luenberger observer and 125 to 150 for the flux estimator), full from
+ * 1.5 x, and at most the current whose ohmic drop is 1/4 of the back-EMF:
+ * an Rs error times the floor's d current lies across the EMF, so an Rs
+ * off by 30 % turns the angle by at most 4 deg. */
 #ifndef DEADTIME_MIN_CURRENT_A
 #define DEADTIME_MIN_CURRENT_A                                                 \
     ((FOC_DT_RIPPLE_BAND_A < DEADTIME_COMP_CURRENT_A / 2.0) ? 2.0 * DEADTIME_COMP_CURRENT_A : 0.0)
@@ -678,7 +680,7 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
 #define FOC_DT_MIN_PER_SPEED_PU (FOC_KFI_PU / (4.0 * FOC_RS_PU))
 #define FOC_DT_MIN_PER_SPEED_MANT FOC_GAIN_MANT(FOC_DT_MIN_PER_SPEED_PU)
 #define FOC_DT_MIN_PER_SPEED_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_DT_MIN_PER_SPEED_PU))
-#define FOC_DT_MIN_FROM FOC_SPEED_Q15(FOC_DT_FLOOR_RPM)
+#define FOC_DT_MIN_FROM FOC_SPEED_Q15(1.25 * FOC_DT_FLOOR_RPM)
 #define FOC_DT_MIN_RAMP_PU                                                     \
     (DEADTIME_MIN_CURRENT_A / FOC_I_BASE_A / (0.25 * (FOC_DT_FLOOR_RPM + 1.0) / SPEED_BASE_RPM))
 #define FOC_DT_MIN_RAMP_MANT FOC_GAIN_MANT(FOC_DT_MIN_RAMP_PU)

@@ -270,10 +270,12 @@ static void case_pll_detuned_motor(void)
     static const est_limits_t loaded = { 10.0, 10.0, 0.2, 0.02 };
     detuned(FOC_EST_PLL, &free, &loaded);
 }
-/* plant realistic, no load (500-3000 rpm): 3.299 / 10.53 / 9.345 / 0.101
- * (500 rpm); 0.05 Nm (1000-3000): 1.234 / 2.943 / 1.895 / 0.015; 500 rpm
- * 0.05 Nm: 2.493 / 5.464 / 6.234 / 0.077.  Limits 3 x; the issue's 2 deg
- * and 1 % are not met (docs/estimators.md). */
+/* plant realistic, no load (500-3000 rpm): 1.701 / 4.437 / 5.275 / 0.071
+ * (500 rpm; 3.299 / 10.53 / 9.345 / 0.101 before the dead-time current
+ * floor, config.h DEADTIME_MIN_CURRENT_A); 0.05 Nm (1000-3000): 1.319 /
+ * 3.194 / 1.088 / 0.012; 500 rpm 0.05 Nm: 2.491 / 5.574 / 6.105 / 0.118.
+ * Limits 3 x (the loaded ones kept); the issue's 2 deg and 1 % are not
+ * met at 500 rpm (docs/estimators.md). */
 /* plant realistic: 300 rpm (at 250 the rotor is lost), worst RMS 4.31 deg;
  * the limit one step of the walk above (the issue's 3 % is 105 rpm) */
 static void case_pll_lowest_speed_realistic(void) { lowest_speed(FOC_EST_PLL, 2, 400.0, 10.0); }
@@ -287,7 +289,7 @@ static void case_pll_plant_realistic_mismatch(void)
 }
 static void case_pll_plant_realistic(void)
 {
-    static const est_limits_t lim[3] = { { 10.0, 32.0, 28.0, 0.3 }, { 3.7, 9.0, 5.7, 0.05 },
+    static const est_limits_t lim[3] = { { 5.1, 13.3, 15.8, 0.21 }, { 3.7, 9.0, 5.7, 0.05 },
                                          { 7.5, 16.5, 19.0, 0.25 } };
     plant_realistic(FOC_EST_PLL, lim);
 }
@@ -341,9 +343,10 @@ static void case_flux_detuned_motor(void)
     static const est_limits_t loaded = { 10.0, 10.0, 0.15, 0.02 };
     detuned(FOC_EST_FLUX, &free, &loaded);
 }
-/* plant realistic, no load: 2.947 / 8.871 / 7.144 / 0.251 (500 rpm);
- * 0.05 Nm: 2.553 / 4.819 / 1.994 / 0.010 (3000 rpm); 500 rpm 0.05 Nm:
- * 1.575 / 4.387 / 4.023 / 0.049.  Limits 3 x. */
+/* plant realistic, no load: 2.538 / 7.366 / 6.338 / 0.150 (500 rpm;
+ * 2.947 / 8.871 / 7.144 / 0.251 before the dead-time current floor);
+ * 0.05 Nm: 2.286 / 5.396 / 1.784 / 0.011 (3000 rpm); 500 rpm 0.05 Nm:
+ * 1.584 / 4.190 / 4.053 / 0.048.  Limits 3 x (the loaded ones kept). */
 /* plant realistic: 150 rpm (9.53 deg RMS there; 10.6 at 125), the limit
  * one step above */
 static void case_flux_lowest_speed_realistic(void) { lowest_speed(FOC_EST_FLUX, 2, 175.0, 10.0); }
@@ -357,7 +360,7 @@ static void case_flux_plant_realistic_mismatch(void)
 }
 static void case_flux_plant_realistic(void)
 {
-    static const est_limits_t lim[3] = { { 9.0, 27.0, 22.0, 0.75 }, { 7.7, 15.0, 6.0, 0.03 },
+    static const est_limits_t lim[3] = { { 7.7, 22.1, 19.0, 0.75 }, { 7.7, 15.0, 6.0, 0.03 },
                                          { 4.7, 13.0, 12.0, 0.15 } };
     plant_realistic(FOC_EST_FLUX, lim);
 }
@@ -410,9 +413,15 @@ static void case_luenberger_detuned_motor(void)
     static const est_limits_t loaded = { 10.0, 10.0, 0.4, 0.04 };
     detuned(FOC_EST_LUENBERGER, &free, &loaded);
 }
-/* plant realistic, no load: 2.951 / 7.875 / 10.036 / 0.041 (500 rpm);
- * 0.05 Nm: 2.112 / 4.247 / 1.992 / 0.010; 500 rpm 0.05 Nm: 2.084 / 5.178 /
- * 7.691 / 0.021.  Limits 3 x. */
+/* plant realistic, no load: 1.714 / 5.551 / 5.663 / 0.140 (500 rpm;
+ * 2.951 / 7.875 / 10.036 / 0.041 before the dead-time current floor);
+ * 0.05 Nm: 2.039 / 4.170 / 1.610 / 0.032; 500 rpm 0.05 Nm: 2.076 / 5.149 /
+ * 7.637 / 0.034.  Limits 3 x, but the mean speed's: over 0.2 s it wanders
+ * with the run's noise, and one run's figure was no limit.  Over eight
+ * start angles (focsim, the same scenario) it was 0.018-0.259 % at 500
+ * rpm without load and 0.002-0.030 % at -1000 rpm with 0.05 Nm before the
+ * floor, 0.025-0.312 and 0.008-0.028 % with it: the limits 0.35 and
+ * 0.045 % (were 0.12 and 0.03, under the spread of the core before). */
 /* plant realistic: 300 rpm (lost at 250), worst RMS 5.68 deg */
 static void case_luenberger_lowest_speed_realistic(void)
 {
@@ -428,7 +437,7 @@ static void case_luenberger_plant_realistic_mismatch(void)
 }
 static void case_luenberger_plant_realistic(void)
 {
-    static const est_limits_t lim[3] = { { 9.0, 24.0, 30.0, 0.12 }, { 6.4, 13.0, 6.0, 0.03 },
+    static const est_limits_t lim[3] = { { 5.2, 16.7, 17.0, 0.35 }, { 6.4, 13.0, 6.0, 0.045 },
                                          { 6.3, 15.5, 23.0, 0.07 } };
     plant_realistic(FOC_EST_LUENBERGER, lim);
 }
