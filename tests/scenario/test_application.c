@@ -792,6 +792,83 @@ static void fault_brake(int mm, double stop_max)
 /* Measured: stopped after 16.2 / 17.9 ms (the limit was 200 ms). */
 static void case_fault_brake(void) { fault_brake(0, 0.06); }
 static void case_fault_brake_mismatch(void) { fault_brake(1, 0.06); }
+/* The dead-time current floor (config.h DEADTIME_MIN_CURRENT_A), from
+ * the plant's true currents.  Sensorless at light load, the d current is
+ * -(floor - |load current|), the floor in double from userparms.h: the
+ * least of DEADTIME_MIN_CURRENT_A, the ramp from 1.25 x FOC_DT_FLOOR_RPM
+ * over a quarter of it, and the current whose ohmic drop is 1/4 of the
+ * back-EMF; the load current the plant's mean q current.  None at 400 rpm
+ * (under 1.25 x the dead time's command floor), none under 0.05 Nm (its
+ * q current is above the floor), none with field weakening off.  Each
+ * mean over 0.2 s of steady state, within `tol_a`.  Measured at worst 3.6
+ * mA off on `plant realistic` (4.5 on top of the mismatch) where the floor
+ * acts, 3.3 (8.6) mA where it does not (the angle error turns a share of
+ * the loaded q current into d); limits 3 x. */
+static double floor_cf_a(double rpm)
+{
+    const double from = 1.25 * FOC_DT_FLOOR_RPM;
+    if (rpm <= from) {
+        return 0.0;
+    }
+    const double ramp = DEADTIME_MIN_CURRENT_A * (rpm - from) / (0.25 * (FOC_DT_FLOOR_RPM + 1.0));
+    const double emf = FOC_FLUX_WB * rpm * MOTOR_POLE_PAIRS * 2.0 * FOC_PI_D / 60.0;
+    return fmin(fmin(DEADTIME_MIN_CURRENT_A, ramp), emf / (4.0 * MOTOR_RS_OHM));
+}
+
+static double mean_of(const run_t *r, double t0, double t1, int q)
+{
+    double sum = 0.0;
+    size_t n = 0;
+    for (size_t k = run_index_at(r, t0); k < r->n && r->rows[k].t_s < t1; k++) {
+        sum += q ? r->rows[k].iq_a : r->rows[k].id_a;
+        n++;
+    }
+    return n ? sum / (double)n : 0.0;
+}
+
+static int floor_window(const run_t *r, double t1, double rpm, int floor_on, double tol_a,
+                        const char *what)
+{
+    const double id = mean_of(r, t1 - 0.2, t1, 0);
+    const double iq = mean_of(r, t1 - 0.2, t1, 1);
+    const double want = floor_on ? -fmax(floor_cf_a(rpm) - fabs(iq), 0.0) : 0.0;
+    const int ok = fabs(id - want) <= tol_a;
+    printf("  %-34s id %7.4f A (want %7.4f, iq %7.4f A): %.4f A off (limit %.3f) %s\n", what, id,
+           want, iq, fabs(id - want), tol_a, ok ? "ok" : "FAIL");
+    return ok;
+}
+
+static void dt_current_floor(int mm, double tol_a)
+{
+    run_t r;
+    run_default("0 start\n0 speed 1000\n1.0 speed 470\n1.6 speed 600\n2.2 speed 400\n"
+                "2.8 speed 1000\n3.4 load 0.05\n4.0 end\n",
+                mm, &r);
+    printf("dead-time current floor%s, final %s %s:\n", plant_name(mm), foc_state_name(r.final_state),
+           foc_fault_name(r.fault));
+    int ok = r.fault == 0;
+    ok &= floor_window(&r, 1.0, 1000.0, 1, tol_a, "1000 rpm, no load (the floor)");
+    ok &= floor_window(&r, 1.6, 470.0, 1, tol_a, "470 rpm, no load (the ramp)");
+    ok &= floor_window(&r, 2.2, 600.0, 1, tol_a, "600 rpm, no load (the EMF's bound)");
+    ok &= floor_window(&r, 2.8, 400.0, 0, tol_a, "400 rpm, no load");
+    ok &= floor_window(&r, 3.4, 1000.0, 1, tol_a, "1000 rpm, no load, again");
+    ok &= floor_window(&r, 4.0, 1000.0, 0, tol_a, "1000 rpm, 0.05 Nm");
+    run_free(&r);
+    sim_options_t opt;
+    sim_default_options(&opt);
+    opt.fw_mode = FW_MODE_OFF;
+    run_opt("0 start\n0 speed 1000\n1.0 end\n", mm, &opt, &r);
+    ok &= r.fault == 0 && floor_window(&r, 1.0, 1000.0, 0, tol_a, "1000 rpm, field weakening off");
+    run_free(&r);
+    TK_CHECK(ok, "see the lines above");
+}
+
+static void case_dt_current_floor_realistic(void) { dt_current_floor(RUN_REALISTIC, 0.011); }
+static void case_dt_current_floor_realistic_mismatch(void)
+{
+    dt_current_floor(RUN_REALISTIC | RUN_MISMATCH, 0.026);
+}
+
 /* On `plant realistic`: 16.3 ms (18.2 on top of the mismatch). */
 static void case_fault_brake_realistic(void) { fault_brake(RUN_REALISTIC, 0.06); }
 static void case_fault_brake_realistic_mismatch(void)
@@ -800,6 +877,7 @@ static void case_fault_brake_realistic_mismatch(void)
 }
 
 TK_CASES(TK_CASE(case_fault_brake), TK_CASE(case_fault_brake_mismatch),
+         TK_CASE(case_dt_current_floor_realistic), TK_CASE(case_dt_current_floor_realistic_mismatch),
          TK_CASE(case_startup_matrix), TK_CASE(case_startup_matrix_mismatch),
          TK_CASE(case_startup_matrix_luenberger), TK_CASE(case_startup_matrix_luenberger_mismatch),
          TK_CASE(case_startup_matrix_flux), TK_CASE(case_startup_matrix_flux_mismatch),
