@@ -13,15 +13,10 @@
 
 #include "foc/config.h"
 #include "foc/rs_adapt.h"
+#include "ideal_pmsm.h"
 #include "testkit.h"
 
 #define TICKS 4000 /* 2 s of slow ticks at the Hurst075's 2 kHz */
-
-static q15_t q15_of(double x, double base)
-{
-    const double q = x / base * 32768.0;
-    return (q15_t)(q > 32767.0 ? 32767.0 : q < -32768.0 ? -32768.0 : lround(q));
-}
 
 /* Runs TICKS ticks of the steady state (rs_true in ohms, speed in rpm,
  * currents in A) from `start` x MOTOR_RS_OHM; returns the final ratio. */
@@ -30,9 +25,9 @@ static double run(double rs_true, double rpm, double id, double iq, double start
     const double we = rpm * MOTOR_POLE_PAIRS * 2.0 * FOC_PI_D / 60.0;
     const double vd = rs_true * id - we * MOTOR_LQ_H * iq;
     const double vq = rs_true * iq + we * (MOTOR_LD_H * id + FOC_FLUX_WB);
-    const foc_dq_t v = { q15_of(vd, FOC_V_BASE_V), q15_of(vq, FOC_V_BASE_V) };
-    const foc_dq_t i = { q15_of(id, FOC_I_BASE_A), q15_of(iq, FOC_I_BASE_A) };
-    const q15_t w = q15_of(rpm, SPEED_BASE_RPM);
+    const foc_dq_t v = { ideal_q15(vd / FOC_V_BASE_V), ideal_q15(vq / FOC_V_BASE_V) };
+    const foc_dq_t i = { ideal_q15(id / FOC_I_BASE_A), ideal_q15(iq / FOC_I_BASE_A) };
+    const q15_t w = ideal_q15(rpm / SPEED_BASE_RPM);
     foc_rs_adapt_t a;
     q15_t ratio = (q15_t)lround(start * 16384.0);
     foc_rs_adapt_reset(&a, v, i, w, ratio);
