@@ -1000,15 +1000,13 @@ static q15_t dt_floor_id(const foc_ctrl_t *c)
     return (short_of > 0) ? (q15_t)-short_of : 0;
 }
 
-/* The d reference in RUN: field weakening's (or MTPA's), or the dead-time
- * floor's if more negative, plus the hand-over's fading share, held within
- * the current limit (the two together reached 1.15 x the limit:
+/* The d reference in RUN: field weakening's (or the dead-time floor's, or
+ * MTPA's) plus the hand-over's fading share, held within the current limit
+ * (the two together reached 1.15 x the limit:
  * tests/fuzz/findings/run_id_beyond_limit). */
 static q15_t run_id(const foc_ctrl_t *c, q15_t id_fw, q15_t iq)
 {
-    const q15_t id_load = salient_id(c, id_fw, iq);
-    const q15_t id_floor = dt_floor_id(c);
-    const q15_t id = foc_add_q15((id_floor < id_load) ? id_floor : id_load, c->handover_id);
+    const q15_t id = foc_add_q15(salient_id(c, id_fw, iq), c->handover_id);
     return (id < -FOC_CURRENT_LIMIT) ? (q15_t)-FOC_CURRENT_LIMIT
            : (id > FOC_CURRENT_LIMIT) ? FOC_CURRENT_LIMIT : id;
 }
@@ -1030,8 +1028,12 @@ static void speed_loop(foc_ctrl_t *c, q15_t target)
                                                                          : FOC_SPEED_RAMP_STEP15;
     const q15_t v_mag = foc_mag_q15(c->v_dq.d, c->v_dq.q);
     const q15_t id_fw = foc_fw_step(&c->fw, c->speed_ctrl.ramped, v_mag, c->bus.v_max);
+    /* a round rotor's d current: field weakening's, or the dead-time
+     * floor's if more negative (MTPA's, if more negative still, in run_id) */
+    const q15_t id_floor = dt_floor_id(c);
+    const q15_t id_round = (id_floor < id_fw) ? id_floor : id_fw;
     c->handover_id = foc_slew_q15(c->handover_id, 0, FOC_HANDOVER_ID_STEP);
-    c->i_ref.d = run_id(c, id_fw, c->i_ref.q);
+    c->i_ref.d = run_id(c, id_round, c->i_ref.q);
     foc_est_set_fw(&c->est, c->fw.inv_kfi, c->fw.ls_scale);
     /* Out of voltage (within 1/64 of the limit) with field weakening
      * giving all it has (or off): no faster than now, and say so. */
@@ -1044,7 +1046,7 @@ static void speed_loop(foc_ctrl_t *c, q15_t target)
     }
     c->i_ref.q = foc_sc_step(&c->speed_ctrl, c->est.speed, c->i_ref.d);
     if (FOC_SALIENT && c->fw.mtpa != 0u) {
-        c->i_ref.d = run_id(c, id_fw, c->i_ref.q);
+        c->i_ref.d = run_id(c, id_round, c->i_ref.q);
         const q15_t iq_max = foc_sc_iq_limit(c->i_ref.d);
         c->i_ref.q = (c->i_ref.q > iq_max) ? iq_max
                      : (c->i_ref.q < -iq_max) ? (q15_t)-iq_max : c->i_ref.q;

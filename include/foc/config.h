@@ -681,6 +681,7 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
 #define FOC_DT_MIN_PER_SPEED_MANT FOC_GAIN_MANT(FOC_DT_MIN_PER_SPEED_PU)
 #define FOC_DT_MIN_PER_SPEED_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_DT_MIN_PER_SPEED_PU))
 #define FOC_DT_MIN_FROM FOC_SPEED_Q15(1.25 * FOC_DT_FLOOR_RPM)
+/* the ramp's slope, current per speed (+1 rpm: none without dead time) */
 #define FOC_DT_MIN_RAMP_PU                                                     \
     (DEADTIME_MIN_CURRENT_A / FOC_I_BASE_A / (0.25 * (FOC_DT_FLOOR_RPM + 1.0) / SPEED_BASE_RPM))
 #define FOC_DT_MIN_RAMP_MANT FOC_GAIN_MANT(FOC_DT_MIN_RAMP_PU)

@@ -815,22 +815,25 @@ static double floor_cf_a(double rpm)
     return fmin(fmin(DEADTIME_MIN_CURRENT_A, ramp), emf / (4.0 * MOTOR_RS_OHM));
 }
 
-static double mean_of(const run_t *r, double t0, double t1, int q)
+/* The plant's mean d and q currents over [t0, t1), A. */
+static void mean_dq(const run_t *r, double t0, double t1, double *id, double *iq)
 {
-    double sum = 0.0;
+    double sd = 0.0, sq = 0.0;
     size_t n = 0;
     for (size_t k = run_index_at(r, t0); k < r->n && r->rows[k].t_s < t1; k++) {
-        sum += q ? r->rows[k].iq_a : r->rows[k].id_a;
+        sd += r->rows[k].id_a;
+        sq += r->rows[k].iq_a;
         n++;
     }
-    return n ? sum / (double)n : 0.0;
+    *id = n ? sd / (double)n : 0.0;
+    *iq = n ? sq / (double)n : 0.0;
 }
 
 static int floor_window(const run_t *r, double t1, double rpm, int floor_on, double tol_a,
                         const char *what)
 {
-    const double id = mean_of(r, t1 - 0.2, t1, 0);
-    const double iq = mean_of(r, t1 - 0.2, t1, 1);
+    double id, iq;
+    mean_dq(r, t1 - 0.2, t1, &id, &iq);
     const double want = floor_on ? -fmax(floor_cf_a(rpm) - fabs(iq), 0.0) : 0.0;
     const int ok = fabs(id - want) <= tol_a;
     printf("  %-34s id %7.4f A (want %7.4f, iq %7.4f A): %.4f A off (limit %.3f) %s\n", what, id,
