@@ -100,8 +100,10 @@ static void case_luenberger_500rpm_switched(void)
  * At 2000 rpm field weakening drives id to -1.47 A, the Rs error times id
  * lies across the EMF (10.6 / 10.7 / 12.4 deg without adaptation): with
  * RS_ADAPTATION on (focsim --rs-adapt on) rs_adapt.c follows Rs, within
- * the issue's 3 deg.  Measured: PLL 2.53, Luenberger 2.70, flux 2.77 deg
- * (3.56 / 3.64 / 3.66 with the one-probe Ld that came out 9 % low). */
+ * the issue's 3 deg.  Measured: PLL 2.19, Luenberger 2.53, flux 2.33 deg
+ * (2.59 / 2.76 / 2.76 until the switched bridge took a pulse shorter than
+ * the dead time right; 3.56 / 3.64 / 3.66 with the one-probe Ld that came
+ * out 9 % low). */
 static void rs_drift(foc_est_kind_t kind, double speed_rpm, int rs_adapt, double limit_deg)
 {
     char text[1024];

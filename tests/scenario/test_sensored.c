@@ -149,7 +149,7 @@ static void case_id_stays_zero_mismatch(void)
 /* On `plant realistic`: 25.2, 71.5, 76.6, 39.1, 27.3 mA (93.7 mA at
  * 2000 rpm loaded before the sensors' gain balance, gain_balance.h, took
  * out their 2-theta ripple): the issue's 88 mA (1.15-3.5 x).  On top of the
- * mismatch 34.7, 74.8, 91.8, 45.1, 33.6 mA: still 4 mA beyond it at
+ * mismatch 34.7, 74.8, 90.0, 49.4, 31.4 mA: still 2 mA beyond it at
  * 2000 rpm loaded, where the current loop (1 kHz) meets the EMF
  * harmonics' 6th (1 kHz; without them 61.0 mA, focsim); 0.11 A there
  * (1.2-1.5 x, was 0.14 A), 88 mA elsewhere. */
@@ -194,9 +194,9 @@ static void current_limit_holds(int mm, double peak_dev_max_a, double back_max_s
 static void case_current_limit_holds(void) { current_limit_holds(0, 0.004, 0.15); }
 static void case_current_limit_holds_mismatch(void) { current_limit_holds(1, 0.04, 0.15); }
 /* On `plant realistic` the controller regulates the current it measures:
- * with the sensors' gains 2 % apart the true peak is 2.310 A (2.296 on
- * top of the mismatch), 60 (46) mA above the regulated limit; back after
- * 35.7 (38.3) ms.  Limits 1.5-2 x, 150 ms kept. */
+ * with the sensors' gains 2 % apart the true peak is 2.311 A (2.299 on
+ * top of the mismatch), 61 (49) mA above the regulated limit; back after
+ * 36.0 (38.5) ms.  Limits 1.5-2 x, 150 ms kept. */
 static void case_current_limit_holds_realistic(void)
 {
     current_limit_holds(RUN_REALISTIC, 0.09, 0.15);

@@ -1179,22 +1179,42 @@ static int leg_command_high(const pmsm_model_t *m, int ph, double t_s)
     return from_mid < 0.5 * d * period_s;
 }
 
+/* Switched bridge: leg ph's two command edges in the period, the times
+ * its command rises and falls (or falls and rises); 0 edges at a duty of
+ * 0 or 1. */
+static int leg_edges(const pmsm_model_t *m, int ph, double edges[2])
+{
+    const double d = m->duty[ph];
+    const double period_s = 1.0 / m->p.pwm_hz;
+    const double half_w = 0.5 * (m->p.sample_mid_period ? 1.0 - d : d) * period_s;
+    edges[0] = 0.5 * period_s - half_w;
+    edges[1] = 0.5 * period_s + half_w;
+    return (d > 0.0 && d < 1.0) ? 2 : 0;
+}
+
 /* Switched bridge: what leg ph's terminal is at time t, as a duty of 1
  * (DC+) or 0 (DC-).  Dead time: a switch turns on deadtime_s after its
  * command rises and off at once, so during deadtime_s after each command
  * edge both switches are off and the current's free-wheeling diode sets
  * the terminal: DC- for a current into the motor (i > 0, or 0), DC+ for
  * a current out of it.  Average over a period, -sgn(i) Vdc t_dead f_pwm
- * per leg, the average model's dead-time error. */
+ * per leg, the average model's dead-time error.  A pulse shorter than
+ * the dead time never turns its switch on (the timers' dead-time units:
+ * STM32 RM0008 "Complementary outputs and dead-time insertion"), so the
+ * diode holds from its first edge to t_dead after its second: the error
+ * stays t_dead f_pwm, not twice the pulse.  (The edges of the period
+ * before are taken at this period's duty.) */
 static double leg_state(const pmsm_model_t *m, int ph, double t_s, double i_a)
 {
     const double period_s = 1.0 / m->p.pwm_hz;
-    const double earlier_s = fmod(t_s - m->p.deadtime_s + period_s, period_s);
-    const int now = leg_command_high(m, ph, t_s);
-    if (now == leg_command_high(m, ph, earlier_s)) {
-        return now;
+    double edges[2];
+    const int n = leg_edges(m, ph, edges);
+    for (int e = 0; e < n; e++) {
+        if (fmod(t_s - edges[e] + period_s, period_s) < m->p.deadtime_s) {
+            return i_a < 0.0 ? 1.0 : 0.0;
+        }
     }
-    return i_a < 0.0 ? 1.0 : 0.0;
+    return leg_command_high(m, ph, t_s);
 }
 
 /* Switched bridge from t0_s to t1_s into the period: split at every
@@ -1211,10 +1231,9 @@ static void integrate_switched(pmsm_model_t *m, integ_t *c, double x[X_COUNT], d
     cut[n++] = t0_s;
     cut[n++] = t1_s;
     for (int ph = 0; ph < PHASES; ph++) {
-        const double d = m->duty[ph];
-        const double half_w = 0.5 * (m->p.sample_mid_period ? 1.0 - d : d) * period_s;
-        const double edges[2] = { 0.5 * period_s - half_w, 0.5 * period_s + half_w };
-        for (int e = 0; e < 2 && d > 0.0 && d < 1.0; e++) {
+        double edges[2];
+        const int n_edges = leg_edges(m, ph, edges);
+        for (int e = 0; e < n_edges; e++) {
             const double t[2] = { edges[e], fmod(edges[e] + m->p.deadtime_s, period_s) };
             for (int k = 0; k < 2; k++) {
                 if (t[k] > t0_s && t[k] < t1_s) {
