@@ -118,11 +118,11 @@ double run_share_limited(const run_t *r, double t0, double t1)
     return n ? (double)limited / (double)n : 0.0;
 }
 
-double run_max_abs_id(const run_t *r, double t0, double t1)
+double run_max_abs_id(const run_t *r, double t0, double t1, double tan_phi)
 {
     double m = 0.0;
     for (size_t k = run_index_at(r, t0); k < r->n && r->rows[k].t_s < t1; k++) {
-        m = fmax(m, fabs(r->rows[k].id_a));
+        m = fmax(m, fabs(r->rows[k].id_a - r->rows[k].iq_a * tan_phi));
     }
     return m;
 }

@@ -86,7 +86,8 @@ double run_max_phase_current(const run_t *r, double t0, double t1);
  * speed_limited (0 if no row). */
 double run_share_limited(const run_t *r, double t0, double t1);
 
-/* Largest |id| in [t0, t1). */
-double run_max_abs_id(const run_t *r, double t0, double t1);
+/* Largest |id - iq tan_phi| in [t0, t1) (the true currents; tan_phi a
+ * turn of the measured current the controller cannot see, 0 for none). */
+double run_max_abs_id(const run_t *r, double t0, double t1, double tan_phi);
 
 #endif /* SCENARIO_RUN_H */

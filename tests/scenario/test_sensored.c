@@ -109,8 +109,41 @@ static void case_load_step_recovery_realistic_mismatch(void)
     load_step_recovery(RUN_REALISTIC | RUN_MISMATCH, 70.0, 650.0, 0.100);
 }
 
+/* `plant realistic`'s current sensors (README.md "Plant options": phase
+ * A +2 %, phase B -2 %; the two the core reads) measure g0 i + G conj(i),
+ * G = d (1 + j / sqrt 3), g0 = 1 + (ea + eb) / 2 + j d / sqrt 3,
+ * d = (ea - eb) / 2 (gain_balance.h).  The gain balance learns G; g0's
+ * turn no measurement tells from the machine's, so the measured d current
+ * held at 0 leaves the true one at iq tan(phi), tan(phi) = (d / sqrt 3) /
+ * (1 + (ea + eb) / 2): 9.2 mA at 0.8 A (measured 9.4 mA, the mean at 2000
+ * rpm with 0.05 Nm).  0 on the other plants. */
+#define REALISTIC_GAIN_A 0.02
+#define REALISTIC_GAIN_B (-0.02)
+static double sensor_turn_tan(int mm)
+{
+    if ((mm & RUN_REALISTIC) == 0) {
+        return 0.0;
+    }
+    return 0.5 * (REALISTIC_GAIN_A - REALISTIC_GAIN_B) / sqrt(3.0) /
+           (1.0 + 0.5 * (REALISTIC_GAIN_A + REALISTIC_GAIN_B));
+}
+
+/* |G| / |g0|, the same sensors' negative sequence: a current of |i| as
+ * measured peaks up to that share above |i| in a phase while the gain
+ * balance has not learned G (it learns only with current and above 750
+ * rpm, and holds through transients).  0 on the other plants. */
+static double sensor_negseq_share(int mm)
+{
+    if ((mm & RUN_REALISTIC) == 0) {
+        return 0.0;
+    }
+    const double d = 0.5 * (REALISTIC_GAIN_A - REALISTIC_GAIN_B);
+    return d * sqrt(4.0 / 3.0) / (1.0 + 0.5 * (REALISTIC_GAIN_A + REALISTIC_GAIN_B));
+}
+
 /* Steady state below base speed, with and without load: max |id| in each
- * window within its limit. */
+ * window within its limit (on `plant realistic`, max |id - iq tan(phi)|,
+ * the sensors' turn taken out). */
 static void id_stays_zero(int mm, const double band_a[5])
 {
     run_t r;
@@ -120,7 +153,7 @@ static void id_stays_zero(int mm, const double band_a[5])
     const double windows[][2] = { { 0.3, 0.4 }, { 0.6, 0.7 }, { 0.9, 1.0 },
                                   { 1.2, 1.3 }, { 1.5, 1.6 } };
     for (size_t i = 0; i < sizeof windows / sizeof windows[0]; i++) {
-        const double id_max = run_max_abs_id(&r, windows[i][0], windows[i][1]);
+        const double id_max = run_max_abs_id(&r, windows[i][0], windows[i][1], sensor_turn_tan(mm));
         printf("steady state %.1f..%.1f s: max |id| = %.4f A (limit %.4f A)\n", windows[i][0],
                windows[i][1], id_max, band_a[i]);
         TK_CHECK(id_max <= band_a[i], "|id| %.4f A > %.4f A in %.1f..%.1f s", id_max, band_a[i],
@@ -146,13 +179,14 @@ static void case_id_stays_zero_mismatch(void)
     const double band[5] = { ID_BAND_A, ID_BAND_A, ID_BAND_A, ID_BAND_A, ID_BAND_A };
     id_stays_zero(1, band);
 }
-/* On `plant realistic`: 25.2, 71.5, 76.6, 39.1, 27.3 mA (93.7 mA at
- * 2000 rpm loaded before the sensors' gain balance, gain_balance.h, took
- * out their 2-theta ripple): the issue's 88 mA (1.15-3.5 x).  On top of the
- * mismatch 34.7, 74.8, 90.0, 49.4, 31.4 mA: still 2 mA beyond it at
- * 2000 rpm loaded, where the current loop (1 kHz) meets the EMF
- * harmonics' 6th (1 kHz; without them 61.0 mA, focsim); 0.11 A there
- * (1.2-1.5 x, was 0.14 A), 88 mA elsewhere. */
+/* On `plant realistic`, |id - iq tan(phi)| (sensor_turn_tan): 25.5,
+ * 61.6, 67.2, 38.5, 26.9 mA (the true |id| 76.6 mA at 2000 rpm loaded;
+ * 93.7 mA before the sensors' gain balance, gain_balance.h, took out
+ * their 2-theta ripple); on top of the mismatch 35.1, 65.7, 80.7, 49.7,
+ * 31.1 mA (the true |id| 90.0 mA there, where the current loop, 1 kHz,
+ * meets the EMF harmonics' 6th, 1 kHz).  The issue's 88 mA (1.1-3.5 x;
+ * the mismatch's loaded windows were allowed 0.11 A while the sensors'
+ * turn was counted as the controller's error). */
 static void case_id_stays_zero_realistic(void)
 {
     const double band[5] = { ID_BAND_A, ID_BAND_A, ID_BAND_A, ID_BAND_A, ID_BAND_A };
@@ -160,7 +194,7 @@ static void case_id_stays_zero_realistic(void)
 }
 static void case_id_stays_zero_realistic_mismatch(void)
 {
-    const double band[5] = { ID_BAND_A, 0.11, 0.11, ID_BAND_A, ID_BAND_A };
+    const double band[5] = { ID_BAND_A, ID_BAND_A, ID_BAND_A, ID_BAND_A, ID_BAND_A };
     id_stays_zero(RUN_REALISTIC | RUN_MISMATCH, band);
 }
 
@@ -175,7 +209,11 @@ static void current_limit_holds(int mm, double peak_dev_max_a, double back_max_s
     run_t r;
     run("0 start\n0.1 speed 2000\n0.4 load 0.2\n0.46 load 0\n0.9 end\n", mm, &r);
     const double back = run_last_outside(&r, 0.46, 0.9, 2000.0, 20.0) - 0.46;
-    const double regulated = CURRENT_LIMIT_A * (1.0 - CURRENT_REF_MARGIN);
+    const double measured_limit = CURRENT_LIMIT_A * (1.0 - CURRENT_REF_MARGIN);
+    /* the true current's peak: the measured limit, and up to the sensors'
+     * negative sequence above it (the 2 % sensors unlearned) */
+    const double regulated = measured_limit * (1.0 + 0.5 * sensor_negseq_share(mm));
+    peak_dev_max_a += 0.5 * measured_limit * sensor_negseq_share(mm);
     printf("overload: peak phase current %.4f A (regulated limit %.4f A, +-%.4f A; limit + 5 %% "
            "%.3f A); speed back within 1 %% %.1f ms after the load goes (limit %.0f)\n",
            r.peak_current_a, regulated, peak_dev_max_a, 1.05 * CURRENT_LIMIT_A, back * 1e3,
@@ -194,16 +232,18 @@ static void current_limit_holds(int mm, double peak_dev_max_a, double back_max_s
 static void case_current_limit_holds(void) { current_limit_holds(0, 0.004, 0.15); }
 static void case_current_limit_holds_mismatch(void) { current_limit_holds(1, 0.04, 0.15); }
 /* On `plant realistic` the controller regulates the current it measures:
- * with the sensors' gains 2 % apart the true peak is 2.311 A (2.299 on
- * top of the mismatch), 61 (49) mA above the regulated limit; back after
- * 36.0 (38.5) ms.  Limits 1.5-2 x, 150 ms kept. */
+ * with the sensors' gains 2 % apart (unlearned through the overload) the
+ * true peak may lie up to |G| = 2.3 % above the limit: measured 2.311 A
+ * (2.299 on top of the mismatch), 35 (23) mA above that band's middle;
+ * back after 36.0 (38.5) ms.  The mismatch's 40 mA either side of the
+ * band (the limits were +-0.09 A around the measured limit). */
 static void case_current_limit_holds_realistic(void)
 {
-    current_limit_holds(RUN_REALISTIC, 0.09, 0.15);
+    current_limit_holds(RUN_REALISTIC, 0.04, 0.15);
 }
 static void case_current_limit_holds_realistic_mismatch(void)
 {
-    current_limit_holds(RUN_REALISTIC | RUN_MISMATCH, 0.09, 0.15);
+    current_limit_holds(RUN_REALISTIC | RUN_MISMATCH, 0.04, 0.15);
 }
 
 /* The same load held: the rotor stalls (the plant's speed below 100 rpm)
@@ -271,7 +311,7 @@ static void bus_compensation(int mm, double dev_max_rpm, double id_max_a)
                                1000.0 - run_extreme_speed(&r, 0.45, 0.5, 1));
     const double dev = fmax(run_extreme_speed(&r, 0.5, 0.8, 0) - 1000.0,
                             1000.0 - run_extreme_speed(&r, 0.5, 0.8, 1));
-    const double id_max = run_max_abs_id(&r, 0.6, 0.8);
+    const double id_max = run_max_abs_id(&r, 0.6, 0.8, sensor_turn_tan(mm));
     printf("bus 24 -> 18 V at 1000 rpm: speed at most %.2f rpm off after (%.2f before; limit "
            "%.2f), max |id| %.4f A (limit %.4f)\n",
            dev, before, dev_max_rpm, id_max, id_max_a);
@@ -282,7 +322,9 @@ static void bus_compensation(int mm, double dev_max_rpm, double id_max_a)
 
 /* Measured: the speed 2.94 / 3.90 rpm off after the step (it was asked to
  * be back within 1 %, 10 rpm, after 50 ms and never left it), |id| 23.4 /
- * 46.2 mA: 10 rpm and the issue's 88 mA kept (2.6-3.8 x). */
+ * 46.2 mA: 10 rpm and the issue's 88 mA kept (2.6-3.8 x).  On `plant
+ * realistic` (alone / on the mismatch) 4.32 / 4.70 rpm, |id - iq tan(phi)|
+ * 75.7 / 70.2 mA (the true |id| 81.5 / 75.4). */
 static void case_bus_compensation(void) { bus_compensation(0, 10.0, ID_BAND_A); }
 static void case_bus_compensation_mismatch(void) { bus_compensation(1, 10.0, ID_BAND_A); }
 static void case_bus_compensation_realistic(void)
