@@ -1040,6 +1040,31 @@ static void case_stiction(void)
     TK_CHECK(!restarted, "rotor moved again after stopping");
 }
 
+/* The mean dq currents of the switched bridge and of the average model
+ * under the synchronous voltage (vd, vq) at `rpm` with the dead time
+ * `dead_s`, over `turns` electrical periods after 20 ms: their difference
+ * relative to the average model's |i|. */
+static double switched_vs_average(double rpm, double dead_s, double vd_v, double vq_v,
+                                  double turns)
+{
+    pmsm_params_t p;
+    pmsm_default_params(&p);
+    p.deadtime_s = dead_s;
+    const double we = p.pole_pairs * rpm_to_rad_s(rpm);
+    const double avg_s = turns * 2.0 * PI / we;
+    pmsm_model_t m;
+    spin_pwm_model(&m, &p, rpm);
+    const dq_t average = synchronous_mean(&m, vd_v, vq_v, 0.02, avg_s);
+    p.switched = 1;
+    spin_pwm_model(&m, &p, rpm);
+    const dq_t switched = synchronous_mean(&m, vd_v, vq_v, 0.02, avg_s);
+    const double err = dq_norm(dq_diff(switched, average)) / dq_norm(average);
+    printf("  %.0f rpm, dead time %.0f us: average id %.5f iq %.5f, switched id %.5f iq %.5f A, "
+           "diff %.4f %% of |i|\n", rpm, dead_s * 1e6, average.id_a, average.iq_a,
+           switched.id_a, switched.iq_a, 100.0 * err);
+    return err;
+}
+
 /* 12. Switched bridge, average fundamental: at 1000 rpm with a synchronous
  * voltage, the mean dq currents over 4 electrical periods agree with the
  * average-value model within 1 % of |i|, without dead time and with 1 us
@@ -1047,51 +1072,22 @@ static void case_stiction(void)
  * band, where both give the full t_dead f_pwm loss). */
 static void case_switched_average(void)
 {
-    const double rpm = 1000.0;
     for (int dead = 0; dead < 2; dead++) {
-        pmsm_params_t p;
-        pmsm_default_params(&p);
-        p.deadtime_s = dead ? 1e-6 : 0.0;
-        const double we = p.pole_pairs * rpm_to_rad_s(rpm);
-        const double avg_s = 4.0 * 2.0 * PI / we;
-        pmsm_model_t m;
-        spin_pwm_model(&m, &p, rpm);
-        const dq_t average = synchronous_mean(&m, -2.0, 9.0, 0.02, avg_s);
-        p.switched = 1;
-        spin_pwm_model(&m, &p, rpm);
-        const dq_t switched = synchronous_mean(&m, -2.0, 9.0, 0.02, avg_s);
-        const double err = dq_norm(dq_diff(switched, average)) / dq_norm(average);
-        printf("  dead time %.0f us: average id %.5f iq %.5f, switched id %.5f iq %.5f A, "
-               "diff %.4f %% of |i|\n", p.deadtime_s * 1e6, average.id_a, average.iq_a,
-               switched.id_a, switched.iq_a, 100.0 * err);
+        const double err = switched_vs_average(1000.0, dead ? 1e-6 : 0.0, -2.0, 9.0, 4.0);
         TK_CHECK(err < 0.01, "diff %.4f %%", 100.0 * err);
     }
 }
 
 /* 12b. The same near the voltage limit: 3000 rpm, |v| 13 V of the 13.9 V
- * linear range at 24 V, 2 us dead time.  The duties then reach 0.031 and
- * 0.969, so a leg's pulse is shorter than the dead time: its switch never
- * turns on, and the loss stays t_dead f_pwm as in the average model
- * (which clamps the duty less that loss to [0, 1]).  Within 1 % of |i|
- * (1.7 % when the switched bridge took the diode's time as twice the
- * pulse). */
+ * linear range at 24 V, 2 us dead time, 8 electrical periods.  The duties
+ * then reach 0.031 and 0.969, so a leg's pulse is shorter than the dead
+ * time: its switch never turns on, and the loss stays t_dead f_pwm as in
+ * the average model (which clamps the duty less that loss to [0, 1]).
+ * Within 1 % of |i| (1.7 % when the switched bridge took the diode's time
+ * as twice the pulse). */
 static void case_switched_average_narrow_pulses(void)
 {
-    const double rpm = 3000.0;
-    pmsm_params_t p;
-    pmsm_default_params(&p);
-    p.deadtime_s = 2e-6;
-    const double we = p.pole_pairs * rpm_to_rad_s(rpm);
-    const double avg_s = 8.0 * 2.0 * PI / we;
-    pmsm_model_t m;
-    spin_pwm_model(&m, &p, rpm);
-    const dq_t average = synchronous_mean(&m, -5.0, 12.0, 0.02, avg_s);
-    p.switched = 1;
-    spin_pwm_model(&m, &p, rpm);
-    const dq_t switched = synchronous_mean(&m, -5.0, 12.0, 0.02, avg_s);
-    const double err = dq_norm(dq_diff(switched, average)) / dq_norm(average);
-    printf("  average id %.5f iq %.5f, switched id %.5f iq %.5f A, diff %.4f %% of |i|\n",
-           average.id_a, average.iq_a, switched.id_a, switched.iq_a, 100.0 * err);
+    const double err = switched_vs_average(3000.0, 2e-6, -5.0, 12.0, 8.0);
     TK_CHECK(err < 0.01, "diff %.4f %%", 100.0 * err);
 }
 
