@@ -1087,9 +1087,10 @@ static void stall_check(foc_ctrl_t *c, uint8_t reversal)
      * reference only STALL_TICKS beyond the statistic's window: one
      * transient that passed (a load step's dip at low speed) keeps the
      * window unsteady for exactly its length, 32 ms on the boards */
-    const int32_t off = (int32_t)c->est.est_speed - c->speed_ctrl.ramped;
+    const int32_t off_abs = foc_abs_q15(foc_sub_q15(c->est.est_speed, c->speed_ctrl.ramped));
     const int32_t ref_abs = foc_abs_q15(c->speed_ctrl.ramped);
-    const uint8_t recovered = (uint8_t)(4 * ((off < 0) ? -off : off) < ref_abs);
+    /* (|off| saturates at Q15_MAX, where 4 x it exceeds any ref_abs too) */
+    const uint8_t recovered = (uint8_t)(4 * off_abs < ref_abs);
     const uint16_t unsteady_max = (recovered != 0u)
                                       /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
                                       ? (uint16_t)(2u * ((uint16_t)STALL_TICKS + (uint16_t)FOC_SPEED_STATS_N))

@@ -9,7 +9,7 @@ FOC_STATIC_ASSERT(FOC_GB_Z_SHIFT <= 13 && FOC_GB_MIN_SPEED < FOC_GB_MAX_SPEED,
                   "gain balance: an impedance beyond 8192 per-unit, or the slow tick too slow "
                   "for twice the electrical frequency (CONTROL_SLOW_DIVIDER)");
 
-#define GB_LIMIT_Q27 ((int32_t)0x1000000) /* |Gh| per component <= 1/8 */
+#define GB_LIMIT_BITS 25u /* Gh per component within [-1/8, 1/8) in Q27 */
 #define GB_MEAN_K ((q15_t)256)          /* the means: 1/128 per tick */
 #define GB_HOLD_TICKS 128u              /* after a transient: the means' */
                                         /* time constant */
@@ -42,16 +42,6 @@ void foc_gb_follow(foc_gain_balance_t *gb, foc_dq_t v, foc_dq_t i)
     foc_lpf_init(&gb->iq, i.q);
     gb->vn_power = 0;
     gb->hold = GB_HOLD_TICKS;
-}
-
-/* g + step, within +-GB_LIMIT_Q27 (|g|, |step| < 2^30: no overflow). */
-static int32_t learn(int32_t g, int32_t step)
-{
-    const int32_t next = g + step;
-    if (next > GB_LIMIT_Q27) {
-        return GB_LIMIT_Q27;
-    }
-    return (next < -GB_LIMIT_Q27) ? -GB_LIMIT_Q27 : next;
 }
 
 void foc_gb_tick(foc_gain_balance_t *gb, uint16_t theta, foc_dq_t v, foc_dq_t i, q15_t speed)
@@ -128,10 +118,11 @@ void foc_gb_tick(foc_gain_balance_t *gb, uint16_t theta, foc_dq_t v, foc_dq_t i,
     }
     /* floor(log2 den) + rate - 27: den >= 2^19, at least 0 */
     const uint8_t shift = (uint8_t)(foc_bit_length((uint32_t)den) + rate - 28u);
+    /* learned, saturated (|Gh| <= 2^24 and the step < 2^30: no overflow) */
     /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-    gb->g_re_q27 = learn(gb->g_re_q27, num_re >> shift);
+    gb->g_re_q27 = FOC_SAT_BITS(gb->g_re_q27 + (num_re >> shift), GB_LIMIT_BITS);
     /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-    gb->g_im_q27 = learn(gb->g_im_q27, num_im >> shift);
+    gb->g_im_q27 = FOC_SAT_BITS(gb->g_im_q27 + (num_im >> shift), GB_LIMIT_BITS);
     /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
     gb->g_re = (q15_t)((gb->g_re_q27 + 0x800) >> 12);
     /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */

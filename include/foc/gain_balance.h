@@ -57,7 +57,7 @@ typedef struct {
     foc_lpf_q15_t vd, vq; /* [slow] the voltage command's mean, Q15 */
     foc_lpf_q15_t id, iq; /* [slow] the current's, Q15 */
     int32_t vn_power;     /* [slow] |its deviation|^2 over 16 ticks, Q29 */
-    int32_t g_re_q27;     /* [slow] Gh, Q27, within +-1/8 */
+    int32_t g_re_q27;     /* [slow] Gh, Q27, within [-1/8, 1/8) */
     int32_t g_im_q27;
     q15_t g_re;           /* [slow] the same in Q15, read by the fast */
     q15_t g_im;           /* step (a torn pair: two ticks' mix) */
