@@ -975,8 +975,8 @@ static q15_t salient_id(const foc_ctrl_t *c, q15_t id_fw, q15_t iq)
  * EMF's ohmic current), else 0.  The load's current is the speed PI's
  * integrator and the speed its ramped reference: taken from the q current
  * and the estimate, the floor's d current followed their ripple, and the
- * estimators' inductance error turned that into speed ripple (the Shinano
- * on the mismatch at 1000 rpm: 1.24 % RMS against 0.31 %).  Not in
+ * estimators' inductance error turned that into speed ripple
+ * (docs/estimators.md, "The dead-time current floor").  Not in
  * commissioning's MECH, which takes the friction from the q current: an
  * angle error would turn a share of the floor's d current into torque
  * (the Hurst075's viscous friction 25 % off, commission.hurst075.

@@ -201,8 +201,7 @@ static plant_t plant_of(int mm)
 static double plant_voltage_at(const plant_t *p, double rpm, double load_nm, double id, double kd,
                                double kq)
 {
-    const double pi = 3.14159265358979323846;
-    const double w = rpm * MOTOR_POLE_PAIRS * 2.0 * pi / 60.0;
+    const double w = rpm * MOTOR_POLE_PAIRS * 2.0 * FOC_PI_D / 60.0;
     const double friction = MOTOR_VISCOUS_NM_PER_KRPM * rpm / 1000.0 + MOTOR_COULOMB_NM;
     const double iq = (load_nm + friction) / (1.5 * MOTOR_POLE_PAIRS * p->psi);
     const double vd = p->rs * id - w * p->l * iq + w * kd;
@@ -225,7 +224,7 @@ static double plant_peak_voltage(const plant_t *p, double rpm, double load_nm, d
 {
     double peak = 0.0;
     for (int k = 0; k < 360; k++) {
-        const double a = (double)k * (2.0 * 3.14159265358979323846 / 360.0);
+        const double a = (double)k * (2.0 * FOC_PI_D / 360.0);
         const double kd = -p->psi * (p->h5 + p->h7) * sin(a);
         const double kq = p->psi * (1.0 + (p->h7 - p->h5) * cos(a));
         peak = fmax(peak, plant_voltage_at(p, rpm, load_nm, id, kd, kq));
@@ -326,7 +325,7 @@ static void field_weakening_max_speed(int mm, double dev_max, double id_tol)
      * closed form at the peak and the one for the fundamental. */
     const double upper = reachable_rpm_at(&p, MOTOR_MAX_SPEED_RPM, 0.015, 0);
     TK_CHECK(loaded >= want_loaded - dev_max && loaded <= fmin(upper + dev_max, MOTOR_MAX_SPEED_RPM + 1.0),
-             "loaded %.1f rpm (closed form %.1f, at the dead time's extra voltage %.1f)", loaded,
+             "loaded %.1f rpm (closed forms %.1f at the EMF's peak, %.1f for the fundamental)", loaded,
              want_loaded, upper);
     TK_CHECK(fabs(id - id_expect) <= id_tol, "id %.4f A, closed form %.4f A", id, id_expect);
     TK_CHECK(!limited || share >= 0.5, "speed_limited %.0f %% of the time", 100.0 * share);

@@ -112,38 +112,28 @@ static void case_load_step_recovery_realistic_mismatch(void)
 /* `plant realistic`'s current sensors (README.md "Plant options": phase
  * A +2 %, phase B -2 %; the two the core reads) measure g0 i + G conj(i),
  * G = d (1 + j / sqrt 3), g0 = 1 + (ea + eb) / 2 + j d / sqrt 3,
- * d = (ea - eb) / 2 (gain_balance.h).  The gain balance learns G; g0's
- * turn no measurement tells from the machine's, so the measured d current
- * held at 0 leaves the true one at iq tan(phi), tan(phi) = (d / sqrt 3) /
- * (1 + (ea + eb) / 2): 9.2 mA at 0.8 A (measured 9.4 mA, the mean at 2000
- * rpm with 0.05 Nm).  0 on the other plants. */
-#define REALISTIC_GAIN_A 0.02
-#define REALISTIC_GAIN_B (-0.02)
-static double sensor_turn_tan(int mm)
+ * d = (ea - eb) / 2 (gain_balance.h).  Returns d / Re(g0) (0 on the
+ * other plants), from which:
+ * - g0's turn, tan(phi) = d / sqrt 3 / Re(g0): no measurement tells it
+ *   from the machine's, so the measured d current held at 0 leaves the
+ *   true one at iq tan(phi), 9.2 mA at 0.8 A (measured 9.4 mA, the mean at
+ *   2000 rpm with 0.05 Nm);
+ * - the negative sequence's share |G| / Re(g0) = d sqrt(4/3) / Re(g0): a
+ *   current of |i| as measured peaks up to that share above |i| in a phase
+ *   while the gain balance has not learned G (it learns only with current
+ *   and above 750 rpm, and holds through transients). */
+static double sensor_mismatch(int mm)
 {
     if ((mm & RUN_REALISTIC) == 0) {
         return 0.0;
     }
-    return 0.5 * (REALISTIC_GAIN_A - REALISTIC_GAIN_B) / sqrt(3.0) /
-           (1.0 + 0.5 * (REALISTIC_GAIN_A + REALISTIC_GAIN_B));
-}
-
-/* |G| / |g0|, the same sensors' negative sequence: a current of |i| as
- * measured peaks up to that share above |i| in a phase while the gain
- * balance has not learned G (it learns only with current and above 750
- * rpm, and holds through transients).  0 on the other plants. */
-static double sensor_negseq_share(int mm)
-{
-    if ((mm & RUN_REALISTIC) == 0) {
-        return 0.0;
-    }
-    const double d = 0.5 * (REALISTIC_GAIN_A - REALISTIC_GAIN_B);
-    return d * sqrt(4.0 / 3.0) / (1.0 + 0.5 * (REALISTIC_GAIN_A + REALISTIC_GAIN_B));
+    const double ea = 0.02, eb = -0.02;
+    return 0.5 * (ea - eb) / (1.0 + 0.5 * (ea + eb));
 }
 
 /* Steady state below base speed, with and without load: max |id| in each
  * window within its limit (on `plant realistic`, max |id - iq tan(phi)|,
- * the sensors' turn taken out). */
+ * the sensors' turn taken out: sensor_mismatch). */
 static void id_stays_zero(int mm, const double band_a[5])
 {
     run_t r;
@@ -152,8 +142,9 @@ static void id_stays_zero(int mm, const double band_a[5])
         mm, &r);
     const double windows[][2] = { { 0.3, 0.4 }, { 0.6, 0.7 }, { 0.9, 1.0 },
                                   { 1.2, 1.3 }, { 1.5, 1.6 } };
+    const double tan_phi = sensor_mismatch(mm) / sqrt(3.0);
     for (size_t i = 0; i < sizeof windows / sizeof windows[0]; i++) {
-        const double id_max = run_max_abs_id(&r, windows[i][0], windows[i][1], sensor_turn_tan(mm));
+        const double id_max = run_max_abs_id(&r, windows[i][0], windows[i][1], tan_phi);
         printf("steady state %.1f..%.1f s: max |id| = %.4f A (limit %.4f A)\n", windows[i][0],
                windows[i][1], id_max, band_a[i]);
         TK_CHECK(id_max <= band_a[i], "|id| %.4f A > %.4f A in %.1f..%.1f s", id_max, band_a[i],
@@ -179,7 +170,7 @@ static void case_id_stays_zero_mismatch(void)
     const double band[5] = { ID_BAND_A, ID_BAND_A, ID_BAND_A, ID_BAND_A, ID_BAND_A };
     id_stays_zero(1, band);
 }
-/* On `plant realistic`, |id - iq tan(phi)| (sensor_turn_tan): 25.5,
+/* On `plant realistic`, |id - iq tan(phi)| (sensor_mismatch): 25.5,
  * 61.6, 67.2, 38.5, 26.9 mA (the true |id| 76.6 mA at 2000 rpm loaded;
  * 93.7 mA before the sensors' gain balance, gain_balance.h, took out
  * their 2-theta ripple); on top of the mismatch 35.1, 65.7, 80.7, 49.7,
@@ -212,8 +203,9 @@ static void current_limit_holds(int mm, double peak_dev_max_a, double back_max_s
     const double measured_limit = CURRENT_LIMIT_A * (1.0 - CURRENT_REF_MARGIN);
     /* the true current's peak: the measured limit, and up to the sensors'
      * negative sequence above it (the 2 % sensors unlearned) */
-    const double regulated = measured_limit * (1.0 + 0.5 * sensor_negseq_share(mm));
-    peak_dev_max_a += 0.5 * measured_limit * sensor_negseq_share(mm);
+    const double negseq = sensor_mismatch(mm) * sqrt(4.0 / 3.0);
+    const double regulated = measured_limit * (1.0 + 0.5 * negseq);
+    peak_dev_max_a += 0.5 * measured_limit * negseq;
     printf("overload: peak phase current %.4f A (regulated limit %.4f A, +-%.4f A; limit + 5 %% "
            "%.3f A); speed back within 1 %% %.1f ms after the load goes (limit %.0f)\n",
            r.peak_current_a, regulated, peak_dev_max_a, 1.05 * CURRENT_LIMIT_A, back * 1e3,
@@ -311,7 +303,7 @@ static void bus_compensation(int mm, double dev_max_rpm, double id_max_a)
                                1000.0 - run_extreme_speed(&r, 0.45, 0.5, 1));
     const double dev = fmax(run_extreme_speed(&r, 0.5, 0.8, 0) - 1000.0,
                             1000.0 - run_extreme_speed(&r, 0.5, 0.8, 1));
-    const double id_max = run_max_abs_id(&r, 0.6, 0.8, sensor_turn_tan(mm));
+    const double id_max = run_max_abs_id(&r, 0.6, 0.8, sensor_mismatch(mm) / sqrt(3.0));
     printf("bus 24 -> 18 V at 1000 rpm: speed at most %.2f rpm off after (%.2f before; limit "
            "%.2f), max |id| %.4f A (limit %.4f)\n",
            dev, before, dev_max_rpm, id_max, id_max_a);

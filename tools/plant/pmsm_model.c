@@ -1203,12 +1203,11 @@ static int leg_edges(const pmsm_model_t *m, int ph, double edges[2])
  * STM32 RM0008 "Complementary outputs and dead-time insertion"), so the
  * diode holds from its first edge to t_dead after its second: the error
  * stays t_dead f_pwm, not twice the pulse.  (The edges of the period
- * before are taken at this period's duty.) */
-static double leg_state(const pmsm_model_t *m, int ph, double t_s, double i_a)
+ * before are taken at this period's duty.)  `edges`, `n`: leg_edges'. */
+static double leg_state(const pmsm_model_t *m, int ph, const double edges[2], int n, double t_s,
+                        double i_a)
 {
     const double period_s = 1.0 / m->p.pwm_hz;
-    double edges[2];
-    const int n = leg_edges(m, ph, edges);
     for (int e = 0; e < n; e++) {
         if (fmod(t_s - edges[e] + period_s, period_s) < m->p.deadtime_s) {
             return i_a < 0.0 ? 1.0 : 0.0;
@@ -1230,11 +1229,12 @@ static void integrate_switched(pmsm_model_t *m, integ_t *c, double x[X_COUNT], d
     int n = 0;
     cut[n++] = t0_s;
     cut[n++] = t1_s;
+    double edges[PHASES][2];
+    int n_edges[PHASES];
     for (int ph = 0; ph < PHASES; ph++) {
-        double edges[2];
-        const int n_edges = leg_edges(m, ph, edges);
-        for (int e = 0; e < n_edges; e++) {
-            const double t[2] = { edges[e], fmod(edges[e] + m->p.deadtime_s, period_s) };
+        n_edges[ph] = leg_edges(m, ph, edges[ph]);
+        for (int e = 0; e < n_edges[ph]; e++) {
+            const double t[2] = { edges[ph][e], fmod(edges[ph][e] + m->p.deadtime_s, period_s) };
             for (int k = 0; k < 2; k++) {
                 if (t[k] > t0_s && t[k] < t1_s) {
                     cut[n++] = t[k];
@@ -1262,7 +1262,7 @@ static void integrate_switched(pmsm_model_t *m, integ_t *c, double x[X_COUNT], d
         const double mid_s = 0.5 * (cut[i] + cut[i + 1]);
         double legs[PHASES];
         for (int ph = 0; ph < PHASES; ph++) {
-            legs[ph] = leg_state(m, ph, mid_s, i_ph[ph]);
+            legs[ph] = leg_state(m, ph, edges[ph], n_edges[ph], mid_s, i_ph[ph]);
         }
         c->duty = legs;
         integrate_span(c, x, cut[i + 1] - cut[i]);
