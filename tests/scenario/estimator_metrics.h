@@ -30,11 +30,13 @@ typedef struct {
 } est_case_t;
 
 typedef struct {
-    int ran_on_estimator; /* 1 if the loop ran on the estimator in the window */
-    int in_run;           /* 1 if the state was RUN throughout the window */
+    int ran_on_estimator; /* 1 if the loop ran on the estimator in the windows */
+    int in_run;           /* 1 if the state was RUN throughout the windows */
+    /* over the statistics' window (0.2 s): */
     double angle_rms_deg, angle_peak_deg;
     double speed_err_rms_pct;   /* RMS of (estimated - true), % of |target| */
-    double speed_mean_rpm;      /* true speed, mean over the window */
+    /* over the mean's window (0.8 s, from the same start): */
+    double speed_mean_rpm;      /* true speed */
 } est_result_t;
 
 /* A case's limits. */

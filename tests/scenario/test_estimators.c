@@ -244,56 +244,59 @@ static void lowest_speed(foc_est_kind_t kind, int plant_kind, double lowest_max,
 /* The limits: {angle RMS deg, angle peak deg, speed estimate error RMS
  * %, mean speed off the target %}, each about 3-5 x the worst the case
  * measures on the Hurst075 (in the comments: RMS / peak / speed error /
- * mean speed off), with a floor of 0.02 % for the mean speed, which the
- * speed loop's integral holds at the target (0.000-0.005 % measured).
+ * mean speed off; the mean over 0.8 s, estimator_metrics.c), with a
+ * floor of 0.02 % for the mean speed, which the speed loop's integral
+ * holds at the target (0.000-0.006 % measured; one count of the speed
+ * reference is 0.016 % at 1000 rpm).
  * The issue's limits before them: 3 / 6 deg, 1 %, 2 % (flux: 5 / 10 deg;
  * detuned: 10 deg RMS); where the issue's is tighter it stays. */
 
 /* ---------------------------------------------------------------- PLL -- */
 /* nominal, 500-3000 and -1000 rpm, 0 and 0.05 Nm: 0.073 / 0.207 / 0.166 /
- * 0.019 */
+ * 0.018 */
 static const est_limits_t pll_nominal = { 0.25, 0.7, 0.6, 0.08 };
 static void case_pll_speeds_and_loads(void) { nominal(FOC_EST_PLL, &pll_nominal); }
 static void case_pll_reverse(void) { reverse(FOC_EST_PLL, &pll_nominal); }
-/* mismatch, no load: 1.361 / 4.434 / 4.356 / 0.038; 0.05 Nm: 2.015 /
- * 3.105 / 1.172 / 0.027 (the loaded RMS mostly the bias dL iq / psi) */
+/* mismatch, no load: 3.223 / 4.615 / 2.086 / 0.029 (500 rpm; the RMS
+ * 1.361 deg before the dead-time current floor); 0.05 Nm: 2.044 / 2.884 /
+ * 1.185 / 0.026 (the loaded RMS mostly the bias dL iq / psi) */
 static void case_pll_mismatch(void)
 {
-    static const est_limits_t lim[2] = { { 4.5, 14.0, 14.0, 0.15 }, { 6.0, 10.0, 4.0, 0.1 } };
+    static const est_limits_t lim[2] = { { 4.5, 14.0, 8.4, 0.12 }, { 6.0, 10.0, 4.0, 0.1 } };
     mismatch(FOC_EST_PLL, lim);
 }
-/* no load 0.118 / 0.242 / 0.085 / 0.002; 0.05 Nm 2.868 / 2.970 / 0.054 /
- * 0.001 */
+/* no load 0.118 / 0.242 / 0.085 / 0.001; 0.05 Nm 2.883 / 2.982 / 0.065 /
+ * 0.000 */
 static void case_pll_detuned_motor(void)
 {
     static const est_limits_t free = { 0.5, 1.2, 0.3, 0.02 };
     static const est_limits_t loaded = { 10.0, 10.0, 0.2, 0.02 };
     detuned(FOC_EST_PLL, &free, &loaded);
 }
-/* plant realistic, no load (500-3000 rpm): 1.701 / 4.437 / 5.275 / 0.071
- * (500 rpm; 3.299 / 10.53 / 9.345 / 0.101 before the dead-time current
- * floor, config.h DEADTIME_MIN_CURRENT_A); 0.05 Nm (1000-3000 and -1000):
- * 1.183 / 2.348 / 1.088 / 0.011 (1.319 / 3.194 / 0.853 at 3000 rpm until
+/* plant realistic, no load (500-3000 rpm): 1.701 / 4.437 / 5.273 / 0.014
+ * (500 rpm; 3.299 / 10.53 / 9.345 before the dead-time current floor,
+ * config.h DEADTIME_MIN_CURRENT_A); 0.05 Nm (1000-3000 and -1000):
+ * 1.182 / 2.348 / 1.088 / 0.017 (1.319 / 3.194 / 0.853 at 3000 rpm until
  * the switched bridge took a pulse shorter than the dead time right);
- * 500 rpm 0.05 Nm: 2.491 / 5.574 / 6.105 / 0.118.  Limits 3 x (the
- * loaded mean speed's 4.5 x kept); the issue's 2 deg and 1 % are not met
- * at 500 rpm (docs/estimators.md). */
+ * 500 rpm 0.05 Nm: 2.491 / 5.574 / 6.106 / 0.030.  Limits 3 x (the mean
+ * speed's 3-4 x); the issue's 2 deg and 1 % are not met at 500 rpm
+ * (docs/estimators.md). */
 /* plant realistic: 300 rpm (at 250 the rotor is lost), worst RMS 4.31 deg;
  * the limit one step of the walk above (the issue's 3 % is 105 rpm) */
 static void case_pll_lowest_speed_realistic(void) { lowest_speed(FOC_EST_PLL, 2, 400.0, 10.0); }
 /* plant realistic on the mismatch, worst over 500-2000 and -1000 rpm, no load:
- * 3.811 / 7.654 / 5.082 / 0.067; 0.05 Nm: 4.035 / 7.557 / 5.294 / 0.035
- * (500 rpm; the figures were 2.686 / 9.801 / 7.879 / 0.351 and 4.229 /
- * 9.044 / 5.539 / 0.143 when these limits were set).  Limits 2.1-4.7 x. */
+ * 3.811 / 7.654 / 5.081 / 0.031; 0.05 Nm: 4.035 / 7.557 / 5.294 / 0.027
+ * (500 rpm; the figures were 2.686 / 9.801 / 7.879 and 4.229 / 9.044 /
+ * 5.539 when these limits were set).  Limits 2.1-4.7 x. */
 static void case_pll_plant_realistic_mismatch(void)
 {
-    static const est_limits_t lim[2] = { { 8.1, 29.5, 23.7, 0.27 }, { 12.7, 27.0, 16.6, 0.14 } };
+    static const est_limits_t lim[2] = { { 8.1, 29.5, 23.7, 0.12 }, { 12.7, 27.0, 16.6, 0.11 } };
     plant_realistic_mismatch(FOC_EST_PLL, lim);
 }
 static void case_pll_plant_realistic(void)
 {
-    static const est_limits_t lim[3] = { { 5.1, 13.3, 15.8, 0.21 }, { 3.6, 7.0, 3.3, 0.05 },
-                                         { 7.5, 16.5, 19.0, 0.25 } };
+    static const est_limits_t lim[3] = { { 5.1, 13.3, 15.8, 0.06 }, { 3.6, 7.0, 3.3, 0.05 },
+                                         { 7.5, 16.5, 19.0, 0.12 } };
     plant_realistic(FOC_EST_PLL, lim);
 }
 /* 25 rpm (the lowest tried), worst RMS 0.437 deg */
@@ -301,25 +304,25 @@ static void case_pll_lowest_speed(void) { lowest_speed(FOC_EST_PLL, 0, 75.0, 1.5
 /* mismatch: 25 rpm, worst RMS 7.14 deg (at 25 rpm; the 10 deg that
  * defines running is the limit) */
 static void case_pll_lowest_speed_mismatch(void) { lowest_speed(FOC_EST_PLL, 1, 75.0, 10.0); }
-/* 0.083 / 0.200 / 0.071 / 0.005 */
+/* 0.118 / 0.227 / 0.100 / 0.004 */
 static void case_pll_flux_mismatch(void)
 {
     static const est_limits_t lim = { 0.3, 0.7, 0.25, 0.02 };
     flux_mismatch(FOC_EST_PLL, &lim);
 }
-/* 0.077 / 0.175 / 0.135 / 0.019 */
+/* 0.092 / 0.216 / 0.146 / 0.019 */
 static void case_pll_rs_mismatch(void)
 {
     static const est_limits_t lim = { 0.3, 0.6, 0.5, 0.08 };
     rs_mismatch(FOC_EST_PLL, &lim);
 }
-/* 0.283 / 0.408 / 0.075 / 0.000 */
+/* 0.152 / 0.300 / 0.151 / 0.002 */
 static void case_pll_ls_mismatch(void)
 {
-    static const est_limits_t lim = { 1.0, 1.3, 0.25, 0.02 };
+    static const est_limits_t lim = { 0.6, 1.3, 0.25, 0.02 };
     ls_mismatch(FOC_EST_PLL, &lim);
 }
-/* 0.067 / 0.194 / 0.087 / 0.001 */
+/* 0.101 / 0.221 / 0.089 / 0.000 */
 static void case_pll_ls_mismatch_caught(void)
 {
     static const est_limits_t lim = { 0.25, 0.6, 0.3, 0.02 };
@@ -331,34 +334,35 @@ static void case_pll_ls_mismatch_caught(void)
 static const est_limits_t flux_nominal = { 0.25, 0.8, 0.5, 0.08 };
 static void case_flux_speeds_and_loads(void) { nominal(FOC_EST_FLUX, &flux_nominal); }
 static void case_flux_reverse(void) { reverse(FOC_EST_FLUX, &flux_nominal); }
-/* mismatch, no load: 1.554 / 4.846 / 4.021 / 0.151; 0.05 Nm: 1.926 /
- * 3.262 / 0.445 / 0.005 */
+/* mismatch, no load: 3.361 / 5.817 / 2.167 / 0.040 (500 rpm; the RMS
+ * 1.554 deg before the dead-time current floor); 0.05 Nm: 1.917 / 3.079 /
+ * 0.447 / 0.019 */
 static void case_flux_mismatch(void)
 {
-    static const est_limits_t lim[2] = { { 5.0, 15.0, 13.0, 0.5 }, { 6.0, 10.0, 1.5, 0.02 } };
+    static const est_limits_t lim[2] = { { 5.0, 15.0, 8.7, 0.16 }, { 6.0, 10.0, 1.5, 0.02 } };
     mismatch(FOC_EST_FLUX, lim);
 }
-/* no load 0.107 / 0.270 / 0.070 / 0.000; 0.05 Nm 2.904 / 3.034 / 0.037 /
- * 0.001 */
+/* no load 0.107 / 0.270 / 0.070 / 0.001; 0.05 Nm 2.905 / 3.061 / 0.047 /
+ * 0.000 */
 static void case_flux_detuned_motor(void)
 {
     static const est_limits_t free = { 0.5, 1.2, 0.25, 0.02 };
     static const est_limits_t loaded = { 10.0, 10.0, 0.15, 0.02 };
     detuned(FOC_EST_FLUX, &free, &loaded);
 }
-/* plant realistic, no load: 2.538 / 7.366 / 6.338 / 0.150 (500 rpm;
- * 2.947 / 8.871 / 7.144 / 0.251 before the dead-time current floor);
- * 0.05 Nm: 0.865 / 2.129 / 0.529 / 0.011 (2.286 / 5.396 / 1.784 at 3000
- * rpm until the switched bridge took a pulse shorter than the dead time
- * right); 500 rpm 0.05 Nm: 1.584 / 4.190 / 4.053 / 0.048.  Limits 3 x
- * (the loaded mean speed's 2.7 x kept). */
+/* plant realistic, no load: 2.538 / 7.366 / 6.338 / 0.011 (500 rpm;
+ * 2.947 / 8.871 / 7.144 before the dead-time current floor); 0.05 Nm:
+ * 0.865 / 2.129 / 0.529 / 0.010 (2.286 / 5.396 / 1.784 at 3000 rpm until
+ * the switched bridge took a pulse shorter than the dead time right);
+ * 500 rpm 0.05 Nm: 1.584 / 4.190 / 4.053 / 0.031.  Limits 3 x (the mean
+ * speed's 3-4 x). */
 /* plant realistic: 150 rpm (9.53 deg RMS there; 10.6 at 125), the limit
  * one step above */
 static void case_flux_lowest_speed_realistic(void) { lowest_speed(FOC_EST_FLUX, 2, 175.0, 10.0); }
 /* plant realistic on the mismatch, worst over 500-2000 and -1000 rpm, no load:
- * 4.339 / 8.555 / 4.527 / 0.019; 0.05 Nm: 3.140 / 5.034 / 2.106 / 0.047
- * (the figures were 4.506 / 10.65 / 6.854 / 0.066 and 3.107 / 5.015 /
- * 2.135 / 0.022 when these limits were set).  Limits 1.5-4.6 x. */
+ * 4.339 / 8.555 / 4.527 / 0.037; 0.05 Nm: 3.141 / 5.034 / 2.106 / 0.026
+ * (the figures were 4.506 / 10.65 / 6.854 and 3.107 / 5.015 / 2.135 when
+ * these limits were set).  Limits 2.2-4.6 x. */
 static void case_flux_plant_realistic_mismatch(void)
 {
     static const est_limits_t lim[2] = { { 13.5, 32.0, 20.6, 0.08 }, { 9.3, 15.0, 6.4, 0.07 } };
@@ -366,33 +370,33 @@ static void case_flux_plant_realistic_mismatch(void)
 }
 static void case_flux_plant_realistic(void)
 {
-    static const est_limits_t lim[3] = { { 7.7, 22.1, 19.0, 0.75 }, { 2.6, 6.4, 1.6, 0.03 },
-                                         { 4.7, 13.0, 12.0, 0.15 } };
+    static const est_limits_t lim[3] = { { 7.7, 22.1, 19.0, 0.045 }, { 2.6, 6.4, 1.6, 0.03 },
+                                         { 4.7, 13.0, 12.0, 0.12 } };
     plant_realistic(FOC_EST_FLUX, lim);
 }
 /* 25 rpm, worst RMS 0.579 deg */
 static void case_flux_lowest_speed(void) { lowest_speed(FOC_EST_FLUX, 0, 75.0, 2.0); }
 /* mismatch: 25 rpm, worst RMS 8.63 deg (at 25 rpm) */
 static void case_flux_lowest_speed_mismatch(void) { lowest_speed(FOC_EST_FLUX, 1, 75.0, 10.0); }
-/* 0.057 / 0.209 / 0.050 / 0.002 */
+/* 0.060 / 0.220 / 0.069 / 0.001 */
 static void case_flux_flux_mismatch(void)
 {
     static const est_limits_t lim = { 0.2, 0.7, 0.2, 0.02 };
     flux_mismatch(FOC_EST_FLUX, &lim);
 }
-/* 0.080 / 0.215 / 0.098 / 0.019 */
+/* 0.090 / 0.206 / 0.103 / 0.019 */
 static void case_flux_rs_mismatch(void)
 {
     static const est_limits_t lim = { 0.3, 0.7, 0.35, 0.08 };
     rs_mismatch(FOC_EST_FLUX, &lim);
 }
-/* 0.164 / 0.324 / 0.049 / 0.001 */
+/* 0.185 / 0.365 / 0.053 / 0.001 */
 static void case_flux_ls_mismatch(void)
 {
     static const est_limits_t lim = { 0.6, 1.0, 0.2, 0.02 };
     ls_mismatch(FOC_EST_FLUX, &lim);
 }
-/* 0.527 / 0.712 / 0.051 / 0.001 */
+/* 0.406 / 0.573 / 0.047 / 0.000 */
 static void case_flux_ls_mismatch_caught(void)
 {
     static const est_limits_t lim = { 1.8, 2.2, 0.2, 0.02 };
@@ -400,54 +404,50 @@ static void case_flux_ls_mismatch_caught(void)
 }
 
 /* ------------------------------------------------------- Luenberger -- */
-/* nominal: 0.124 / 0.447 / 0.695 / 0.038 (the 1 % kept) */
-static const est_limits_t luen_nominal = { 0.5, 1.5, 1.0, 0.15 };
+/* nominal: 0.083 / 0.170 / 0.173 / 0.019 */
+static const est_limits_t luen_nominal = { 0.33, 0.7, 0.7, 0.08 };
 static void case_luenberger_speeds_and_loads(void) { nominal(FOC_EST_LUENBERGER, &luen_nominal); }
 static void case_luenberger_reverse(void) { reverse(FOC_EST_LUENBERGER, &luen_nominal); }
-/* mismatch, no load: 2.134 / 6.934 / 10.943 / 0.229; 0.05 Nm: 2.015 /
- * 4.541 / 4.415 / 0.206 */
+/* mismatch, no load: 3.295 / 4.374 / 2.038 / 0.035 (500 rpm); 0.05 Nm:
+ * 1.944 / 2.920 / 1.221 / 0.027 */
 static void case_luenberger_mismatch(void)
 {
-    static const est_limits_t lim[2] = { { 7.0, 21.0, 33.0, 0.7 }, { 6.0, 14.0, 14.0, 0.7 } };
+    static const est_limits_t lim[2] = { { 7.0, 18.0, 8.2, 0.14 }, { 6.0, 12.0, 4.9, 0.11 } };
     mismatch(FOC_EST_LUENBERGER, lim);
 }
-/* no load 0.116 / 0.372 / 0.210 / 0.010; 0.05 Nm 2.875 / 3.022 / 0.110 /
- * 0.001 */
+/* no load 0.099 / 0.246 / 0.084 / 0.000; 0.05 Nm 2.874 / 2.993 / 0.130 /
+ * 0.000 */
 static void case_luenberger_detuned_motor(void)
 {
-    static const est_limits_t free = { 0.5, 1.2, 0.7, 0.04 };
-    static const est_limits_t loaded = { 10.0, 10.0, 0.4, 0.04 };
+    static const est_limits_t free = { 0.4, 1.0, 0.34, 0.02 };
+    static const est_limits_t loaded = { 10.0, 10.0, 0.4, 0.02 };
     detuned(FOC_EST_LUENBERGER, &free, &loaded);
 }
-/* plant realistic, no load: 1.589 / 4.546 / 5.215 / 0.133 (500 rpm;
- * 2.951 / 7.875 / 10.036 / 0.041 before the dead-time current floor);
- * 0.05 Nm: 0.934 / 2.235 / 1.067 / 0.032 (2.039 / 4.170 / 1.610 at 3000
- * rpm until the switched bridge took a pulse shorter than the dead time
- * right); 500 rpm 0.05 Nm: 2.114 / 5.504 / 7.712 / 0.020.  Limits 3 x,
- * but the mean speed's: over 0.2 s it wanders with the run's noise, and
- * one run's figure was no limit.  Over eight
- * start angles (focsim, the same scenario) it was 0.018-0.259 % at 500
- * rpm without load and 0.002-0.030 % at -1000 rpm with 0.05 Nm before the
- * floor, 0.025-0.312 and 0.008-0.028 % with it: the limits 0.35 and
- * 0.045 % (were 0.12 and 0.03, under the spread of the core before). */
+/* plant realistic, no load: 1.588 / 4.546 / 5.212 / 0.055 (500 rpm;
+ * 2.951 / 7.875 / 10.036 before the dead-time current floor); 0.05 Nm:
+ * 0.934 / 2.235 / 1.067 / 0.012 (2.039 / 4.170 / 1.610 at 3000 rpm until
+ * the switched bridge took a pulse shorter than the dead time right);
+ * 500 rpm 0.05 Nm: 2.114 / 5.504 / 7.713 / 0.008.  Limits 3 x; the mean
+ * speed's 0.12 and 0.03 % as they were before its mean over 0.2 s (0.133
+ * and 0.032 % on this run, following the hunt's phase) widened them. */
 /* plant realistic: 300 rpm (lost at 250), worst RMS 5.68 deg */
 static void case_luenberger_lowest_speed_realistic(void)
 {
     lowest_speed(FOC_EST_LUENBERGER, 2, 400.0, 10.0);
 }
 /* plant realistic on the mismatch, worst over 500-2000 and -1000 rpm, no load:
- * 4.536 / 8.056 / 5.445 / 0.044; 0.05 Nm: 3.276 / 6.246 / 5.141 / 0.062
- * (the figures were 2.878 / 7.877 / 8.222 / 0.235 and 3.249 / 6.523 /
- * 5.138 / 0.054 when these limits were set).  Limits 1.9-4.5 x. */
+ * 4.536 / 8.056 / 5.441 / 0.061; 0.05 Nm: 3.276 / 6.246 / 5.140 / 0.028
+ * (the figures were 2.878 / 7.877 / 8.222 and 3.249 / 6.523 / 5.138
+ * when these limits were set).  Limits 1.9-4.5 x. */
 static void case_luenberger_plant_realistic_mismatch(void)
 {
-    static const est_limits_t lim[2] = { { 8.6, 23.6, 24.7, 0.18 }, { 9.7, 19.6, 15.4, 0.16 } };
+    static const est_limits_t lim[2] = { { 8.6, 23.6, 24.7, 0.18 }, { 9.7, 19.6, 15.4, 0.11 } };
     plant_realistic_mismatch(FOC_EST_LUENBERGER, lim);
 }
 static void case_luenberger_plant_realistic(void)
 {
-    static const est_limits_t lim[3] = { { 4.8, 13.6, 15.6, 0.35 }, { 2.8, 6.7, 3.2, 0.045 },
-                                         { 6.3, 15.5, 23.0, 0.07 } };
+    static const est_limits_t lim[3] = { { 4.8, 13.6, 15.6, 0.12 }, { 2.8, 6.7, 3.2, 0.03 },
+                                         { 6.3, 15.5, 23.0, 0.03 } };
     plant_realistic(FOC_EST_LUENBERGER, lim);
 }
 /* 50 rpm, worst RMS 0.742 deg */
@@ -463,10 +463,10 @@ static void case_luenberger_lowest_speed_mismatch(void)
 {
     lowest_speed(FOC_EST_LUENBERGER, 1, 400.0, 8.0);
 }
-/* 0.080 / 0.303 / 0.160 / 0.006 */
+/* 0.059 / 0.184 / 0.087 / 0.006 */
 static void case_luenberger_flux_mismatch(void)
 {
-    static const est_limits_t lim = { 0.3, 1.0, 0.6, 0.025 };
+    static const est_limits_t lim = { 0.24, 0.75, 0.35, 0.025 };
     flux_mismatch(FOC_EST_LUENBERGER, &lim);
 }
 
