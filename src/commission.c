@@ -27,6 +27,7 @@ void foc_comm_begin(foc_comm_t *m)
     m->lq_q14 = 0;
     m->flux_q14 = 0;
     m->j_q12 = 0;
+    m->dt_q14 = 0;
     m->u.friction_i.low = 0;
     m->u.friction_i.high = 0;
 }
@@ -259,7 +260,24 @@ static uint8_t measured(foc_comm_t *m, uint16_t settle, foc_comm_mode_t measure)
     return (uint8_t)(m->fast_mode == m->mode && m->count >= target);
 }
 
-static foc_comm_status_t rs_tick(foc_comm_t *m, foc_startup_t *su)
+/* The bridge's effective dead time, Q14 of DEADTIME_EFFECTIVE_S, 1 ..
+ * 32767 (0 in a build without dead time), from `miss`, what the bridge
+ * model of dead-time voltage `dt_model` missed along d at standstill
+ * (Q15): at angle 0 the phase currents are (I, -I/2, -I/2), beyond the
+ * dead time's soft bands, and the bridge loses 4/3 of a phase's dead-time
+ * voltage along d.  |4 dt_model + 3 miss| < 2^17. */
+static q15_t deadtime_ratio(int32_t miss, q15_t dt_model)
+{
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    if (FOC_DT_VOLTAGE == 0) {
+        return 0;
+    }
+    /* cppcheck-suppress misra-c2012-10.8 ; D2 compile-time constant */
+    const int32_t r = ratio_q14((4 * (int32_t)dt_model) + (3 * miss), 4 * (int32_t)FOC_DT_VOLTAGE);
+    return (q15_t)((r < 1) ? 1 : ((r > RATIO_MAX_Q14) ? RATIO_MAX_Q14 : r));
+}
+
+static foc_comm_status_t rs_tick(foc_comm_t *m, foc_startup_t *su, q15_t dt_model)
 {
     su->current = (m->level == 0u) ? FOC_COMM_I_HIGH : FOC_COMM_I_LOW;
     if (measured(m, FOC_COMM_SETTLE_TICKS, FOC_COMM_MODE_SUM) == 0u) {
@@ -291,6 +309,10 @@ static foc_comm_status_t rs_tick(foc_comm_t *m, foc_startup_t *su)
         return fail(m);
     }
     m->rs_q14 = (q15_t)r;
+    /* the line's intercept at the high level: vd - Rs id, within 2^27
+     * as the sums (Rs id is the sum's part) */
+    m->dt_q14 = deadtime_ratio(mean_q15(m->u.rs.v_high - mul_shift(rs_q20, m->u.rs.i_high, 20)),
+                               dt_model);
     next_step(m, FOC_COMM_STEP_LD, FOC_COMM_MODE_HOLD);
     return FOC_COMM_BUSY;
 }
@@ -408,7 +430,7 @@ FOC_COLD foc_comm_status_t foc_comm_tick(foc_comm_t *m, foc_startup_t *su, const
         }
         return FOC_COMM_BUSY;
     case FOC_COMM_STEP_RS:
-        return rs_tick(m, su);
+        return rs_tick(m, su, in->dt_model);
     case FOC_COMM_STEP_LD:
     case FOC_COMM_STEP_LQ:
         return inductance_tick(m, su);

@@ -149,6 +149,7 @@ void foc_init(foc_ctrl_t *c)
     c->opt.tuning = TUNING_RAMP;
     c->opt.sensored_start = 0;
     c->opt.deadtime_comp = (uint8_t)(DEADTIME_COMPENSATION != 0);
+    c->dt_voltage = FOC_DT_VOLTAGE;
     c->opt.fault_brake = (uint8_t)(FAULT_BRAKE != 0);
     c->opt.rs_adapt = (uint8_t)(RS_ADAPTATION != 0);
     c->opt.min_speed = FOC_SENSORLESS_MIN_SPEED;
@@ -231,7 +232,7 @@ static FOC_ALWAYS_INLINE foc_ab_t applied_voltage(const foc_ctrl_t *c, foc_ab_t 
         const foc_ab_t i_mid = { (q15_t)(((int32_t)i_last.alpha + i_now.alpha) >> 1),
                                  /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
                                  (q15_t)(((int32_t)i_last.beta + i_now.beta) >> 1) };
-        const foc_ab_t err = foc_deadtime_error_ab(foc_iclarke_q15(i_mid));
+        const foc_ab_t err = foc_deadtime_error_ab(foc_iclarke_q15(i_mid), c->dt_voltage);
         v.alpha = foc_add_q15(v.alpha, err.alpha);
         v.beta = foc_add_q15(v.beta, err.beta);
     }
@@ -246,8 +247,8 @@ static FOC_ALWAYS_INLINE void apply_voltage(foc_ctrl_t *c, foc_sincos_t sc_v)
     if (c->opt.deadtime_comp != 0u) {
         /* cancel the dead-time error of the next period's current: the
          * reference turned on by 1.5 periods of rotation */
-        const foc_ab_t corr =
-            foc_deadtime_correction_ab(foc_iclarke_q15(foc_ipark_q15(c->i_ref_slewed, sc_v)));
+        const foc_ab_t corr = foc_deadtime_correction_ab(
+            foc_iclarke_q15(foc_ipark_q15(c->i_ref_slewed, sc_v)), c->dt_voltage);
         c->v_ab.alpha = foc_add_q15(c->v_ab.alpha, corr.alpha);
         c->v_ab.beta = foc_add_q15(c->v_ab.beta, corr.beta);
     }
@@ -1309,8 +1310,16 @@ static void commission_run(foc_ctrl_t *c)
 static void commission_tick(foc_ctrl_t *c)
 {
     const uint8_t was_off = (uint8_t)(c->comm.mode == (uint8_t)FOC_COMM_MODE_OFF);
-    const foc_comm_in_t in = { c->current_sense.calibrated, c->current_sense.offset };
+    /* cppcheck-suppress misra-c2012-9.2 ; F analyser false positive */
+    const foc_comm_in_t in = { c->current_sense.calibrated, c->current_sense.offset,
+                               (c->opt.deadtime_comp != 0u) ? c->dt_voltage : (q15_t)0 };
     const foc_comm_status_t status = foc_comm_tick(&c->comm, &c->startup, &in);
+    /* the measured dead time from RS on: FLUX's voltage and MECH's
+     * estimator (then the drive's, until a reset) see the bridge's own */
+    if (c->comm.dt_q14 != 0) {
+        /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
+        c->dt_voltage = (q15_t)(((int32_t)FOC_DT_VOLTAGE * c->comm.dt_q14) >> 14);
+    }
     if (status == FOC_COMM_FAILED) {
         trip(c, (uint16_t)FOC_FAULT_COMMISSION_FAILED);
         return;

@@ -470,6 +470,7 @@ static void comm_result(const foc_ctrl_t *c, out_t *o)
     put16(o, (uint16_t)r->j_q12);
     put32(o, (uint32_t)r->u.friction_i.low);
     put32(o, (uint32_t)r->u.friction_i.high);
+    put16(o, (uint16_t)r->dt_q14);
 }
 
 /* The argument length each command takes (0xFF: any, checked by it). */

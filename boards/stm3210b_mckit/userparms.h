@@ -66,6 +66,10 @@
 #define BOARD_TEMP_V_PER_DEGC       0.016923 /* at 0 degC and its slope */
 #define PWM_FREQUENCY_HZ            16000.0  /* PWM and control rate, Hz */
 #define PWM_DEADTIME_S              8.0e-7   /* dead time, s */
+#define DEADTIME_EFFECTIVE_S        PWM_DEADTIME_S /* the bridge's */
+                                             /* effective dead time, s */
+                                             /* (config.h; commissioning */
+                                             /* measures it) */
 #define DEADTIME_COMPENSATION       1        /* 1: correct the duties for */
                                              /* the dead time (deadtime.h) */
 #define DEADTIME_COMP_CURRENT_A     0.15     /* compensation soft band, A */

@@ -17,7 +17,9 @@
  *   ALIGN    the start-up's alignment to angle 0, then the rotor settles.
  *   RS       d current FOC_COMM_I_HIGH then FOC_COMM_I_LOW, each held and
  *            summed over FOC_COMM_SUM_N periods: Rs = dVd / dId (the
- *            dead time's and the switches' drop, the same at both, cancel).
+ *            dead time's and the switches' drop, the same at both, cancel);
+ *            the line's intercept is what the bridge model misses of
+ *            them: the bridge's effective dead time.
  *   LD, LQ   held at FOC_COMM_I_LOW on d, a square wave of +-dV on one
  *            axis; the current's slope over each half by least squares,
  *            which is a weighted mean of di/dt = (dV - Rs (i - i_hold)) / L:
@@ -135,12 +137,19 @@ typedef struct {
     q15_t flux_q14;
     q15_t j_q12;         /* J / MOTOR_INERTIA_KGM2, Q12, [256, 32767] */
                          /* when MECH measured it, else 0 */
+    q15_t dt_q14;        /* the bridge's effective dead time (config.h) */
+                         /* / DEADTIME_EFFECTIVE_S, Q14, [1, 32767] */
+                         /* from RS on; 0 before, or in a build */
+                         /* without dead time */
 } foc_comm_t;
 
 /* Inputs of a slow tick from the controller. */
 typedef struct {
     uint8_t calibrated;  /* the current sense's offsets are taken */
     foc_abc_t offset;    /* and these they are (Q15) */
+    q15_t dt_model;      /* the dead-time voltage (deadtime.h) whose */
+                         /* error the voltage summed holds (0: the bare */
+                         /* command, the compensation off) */
 } foc_comm_in_t;
 
 /* At rest: no commissioning has run, no results (foc_init). */

@@ -640,10 +640,20 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
                   "magnet flux, beyond the MTPA block's format");
 
 /* ------------------------------------------------ dead-time comp. -- */
+/* The bridge's effective dead time: the phase voltage it loses in the
+ * current's direction, over Vdc f_pwm.  The switches' delays and drops
+ * add to the timer's PWM_DEADTIME_S (a slow gate driver takes from it);
+ * self-commissioning measures it (docs/commissioning.md, "RS").  The
+ * compensation, the estimators' model of the bridge and the dead time's
+ * speed floor use it: 25 % off, the angle error at 500 rpm on `plant
+ * realistic` was 4.9-8.5 deg instead of 1.8-2.2 (docs/estimators.md). */
+#ifndef DEADTIME_EFFECTIVE_S
+#define DEADTIME_EFFECTIVE_S PWM_DEADTIME_S
+#endif
 /* Phase voltage lost per dead time, Vdc t_dead f_pwm, in per-unit of the
  * voltage base Vdc/sqrt(3) (nominal bus); the soft-sign gain 1/I_soft in
  * per-unit of the current base. */
-#define FOC_DT_VOLTAGE Q15(FOC_SQRT3_D * PWM_DEADTIME_S * PWM_FREQUENCY_HZ)
+#define FOC_DT_VOLTAGE Q15(FOC_SQRT3_D * DEADTIME_EFFECTIVE_S * PWM_FREQUENCY_HZ)
 #define FOC_DT_INV_SOFT_PU (FOC_I_BASE_A / DEADTIME_COMP_CURRENT_A)
 /* Half the peak-to-peak PWM current ripple at 50 % duty with 2/3 of the bus
  * across the winding: within it the period-average dead-time error is
@@ -1069,6 +1079,8 @@ FOC_STATIC_ASSERT(PLL_LOW_SPEED_RPM >= 0.0 && PLL_LOW_SPEED_RPM < SPEED_BASE_RPM
                   "PLL_LOW_SPEED_RPM out of range");
 FOC_STATIC_ASSERT(PWM_DEADTIME_S >= 0.0 && PWM_DEADTIME_S * PWM_FREQUENCY_HZ < 0.1,
                   "PWM_DEADTIME_S must be under 10 % of the PWM period");
+FOC_STATIC_ASSERT(DEADTIME_EFFECTIVE_S >= 0.0 && DEADTIME_EFFECTIVE_S * PWM_FREQUENCY_HZ < 0.1,
+                  "DEADTIME_EFFECTIVE_S must be under 10 % of the PWM period");
 FOC_STATIC_ASSERT(DEADTIME_COMP_CURRENT_A > 0.0 && FOC_DT_INV_SOFT_PU < 32768.0,
                   "DEADTIME_COMP_CURRENT_A out of range");
 FOC_STATIC_ASSERT(DEADTIME_MIN_CURRENT_A >= 0.0 && DEADTIME_MIN_CURRENT_A <= CURRENT_LIMIT_A / 4.0,
@@ -1252,12 +1264,12 @@ FOC_STATIC_ASSERT(FOC_PROBE_SPACING * FOC_DTHETA_AT_BASE * MOTOR_MAX_SPEED_RPM *
 #define FOC_DT_FLOOR_RPM_PER_S                                                 \
     (FOC_DT_EMF_MARGIN * (4.0 / FOC_PI_D) * BOARD_VDC_NOMINAL_V * PWM_FREQUENCY_HZ /   \
      (FOC_FLUX_WB * MOTOR_POLE_PAIRS * 2.0 * FOC_PI_D / 60.0))
-#define FOC_DT_FLOOR_RPM (PWM_DEADTIME_S * FOC_DT_FLOOR_RPM_PER_S)
+#define FOC_DT_FLOOR_RPM (DEADTIME_EFFECTIVE_S * FOC_DT_FLOOR_RPM_PER_S)
 #ifndef SENSORLESS_MIN_SPEED_RPM
-FOC_STATIC_ASSERT(PWM_DEADTIME_S * FOC_DT_FLOOR_RPM_PER_S <= MOTOR_MAX_SPEED_RPM,
-                  "PWM_DEADTIME_S: at MOTOR_MAX_SPEED_RPM the back-EMF is below 1.2 x the dead "
-                  "time's voltage, no speed where the estimators hold; shorten the dead time or "
-                  "define SENSORLESS_MIN_SPEED_RPM");
+FOC_STATIC_ASSERT(DEADTIME_EFFECTIVE_S * FOC_DT_FLOOR_RPM_PER_S <= MOTOR_MAX_SPEED_RPM,
+                  "PWM_DEADTIME_S (DEADTIME_EFFECTIVE_S): at MOTOR_MAX_SPEED_RPM the back-EMF is "
+                  "below 1.2 x the dead time's voltage, no speed where the estimators hold; "
+                  "shorten the dead time or define SENSORLESS_MIN_SPEED_RPM");
 #define SENSORLESS_MIN_SPEED_RPM                                               \
     ((FOC_DT_FLOOR_RPM > STARTUP_MIN_SPEED_RPM) ? FOC_DT_FLOOR_RPM : STARTUP_MIN_SPEED_RPM)
 #endif

@@ -227,6 +227,10 @@ typedef struct {
                             /* current leaves inside the limit */
     q15_t reversal_speed;   /* [slow] |speed| where a reversal's window */
                             /* began (it must slow down in each) */
+    q15_t dt_voltage;       /* [slow] the phase voltage a dead time loses, */
+                            /* Q15 of the voltage base (deadtime.h): */
+                            /* FOC_DT_VOLTAGE, commissioning's measure */
+                            /* from its RS step on (read fast) */
     uint16_t start_ticks;   /* [slow] slow ticks since `start` (start-up */
                             /* timeout; in RUN, a reversal's ramp down) */
     uint16_t unsteady_ticks; /* [slow] stall detection: the speed statistic */

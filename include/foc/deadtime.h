@@ -14,7 +14,8 @@
  * last period (command plus the error for the current that flowed).
  *
  * Currents Q15 of the current base; voltage Q15 of the voltage base at the
- * nominal bus.
+ * nominal bus; `v_dt`, the phase voltage a dead time loses (Vdc t_dead
+ * f_pwm: FOC_DT_VOLTAGE, or commissioning's measure, controller.h).
  */
 #ifndef FOC_DEADTIME_H
 #define FOC_DEADTIME_H
@@ -33,11 +34,11 @@ static inline q15_t foc_deadtime_phase(q15_t i, q15_t inv_band, uint8_t shift, q
 /* The error the bridge makes: soft band = the PWM-ripple band of the
  * motor (FOC_DT_RIPPLE_BAND_A, from Vdc, L and f_pwm).  For the estimator.
  * The common mode never reaches the windings: Clarke drops it. */
-static inline foc_ab_t foc_deadtime_error_ab(foc_abc_t i)
+static inline foc_ab_t foc_deadtime_error_ab(foc_abc_t i, q15_t v_dt)
 {
     const q15_t k = FOC_DT_INV_RIPPLE_MANT;
     const uint8_t sh = FOC_DT_INV_RIPPLE_SHIFT;
-    const q15_t v = (q15_t)-FOC_DT_VOLTAGE;
+    const q15_t v = (q15_t)-v_dt;
     const foc_abc_t e = { foc_deadtime_phase(i.a, k, sh, v), foc_deadtime_phase(i.b, k, sh, v),
                           foc_deadtime_phase(i.c, k, sh, v) };
     return foc_clarke3_q15(e);
@@ -48,14 +49,13 @@ static inline foc_ab_t foc_deadtime_error_ab(foc_abc_t i)
  * where the bridge's error follows the actual current and the correction
  * the reference, the correction's slope stays small (the current loop
  * absorbs the rest). */
-static inline foc_ab_t foc_deadtime_correction_ab(foc_abc_t i_ref)
+static inline foc_ab_t foc_deadtime_correction_ab(foc_abc_t i_ref, q15_t v_dt)
 {
     const q15_t k = FOC_DT_INV_SOFT_MANT;
     const uint8_t sh = FOC_DT_INV_SOFT_SHIFT;
-    const q15_t v = FOC_DT_VOLTAGE;
-    const foc_abc_t e = { foc_deadtime_phase(i_ref.a, k, sh, v),
-                          foc_deadtime_phase(i_ref.b, k, sh, v),
-                          foc_deadtime_phase(i_ref.c, k, sh, v) };
+    const foc_abc_t e = { foc_deadtime_phase(i_ref.a, k, sh, v_dt),
+                          foc_deadtime_phase(i_ref.b, k, sh, v_dt),
+                          foc_deadtime_phase(i_ref.c, k, sh, v_dt) };
     return foc_clarke3_q15(e);
 }
 

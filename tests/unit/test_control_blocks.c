@@ -647,32 +647,36 @@ static void case_current_sense(void)
 }
 
 /* Dead time: outside the soft band each phase loses V_dt against its
- * current (the vector sum of the three); inside, in proportion. */
+ * current (the vector sum of the three); inside, in proportion; V_dt the
+ * one given (the build's, or a measured one 1.5 x as long). */
 static void case_deadtime_error(void)
 {
     const q15_t big = FOC_I_Q15(1.0);
     const foc_abc_t i = { big, (q15_t)-big, (q15_t)-big };
-    const foc_ab_t e = foc_deadtime_error_ab(i);
+    const foc_ab_t e = foc_deadtime_error_ab(i, FOC_DT_VOLTAGE);
     /* phases -V, +V, +V: alpha = (2(-V) - V - V)/3 = -4V/3, beta = 0 */
     const double v = FOC_DT_VOLTAGE;
     TK_CHECK(fabs(e.alpha + 4.0 * v / 3.0) <= 2.0 && abs(e.beta) <= 2, "big: %d %d (V %.0f)",
              e.alpha, e.beta, v);
+    const foc_ab_t e_long = foc_deadtime_error_ab(i, (q15_t)(3 * FOC_DT_VOLTAGE / 2));
+    TK_CHECK(fabs(e_long.alpha + 2.0 * v) <= 2.0 && abs(e_long.beta) <= 2, "1.5 x: %d %d",
+             e_long.alpha, e_long.beta);
     const q15_t small = FOC_I_Q15(0.5 * FOC_DT_RIPPLE_BAND_A);
     const foc_abc_t i2 = { small, (q15_t)-small, 0 };
-    const foc_ab_t e2 = foc_deadtime_error_ab(i2);
+    const foc_ab_t e2 = foc_deadtime_error_ab(i2, FOC_DT_VOLTAGE);
     /* phases -V/2, +V/2, 0: alpha = -V/2, beta = (b - c)/sqrt(3) = V/(2 sqrt(3)) */
     TK_CHECK(fabs(e2.alpha + 0.5 * v) <= 2.0 && fabs(e2.beta - v / (2.0 * 1.7320508)) <= 2.0,
              "in band: %d %d", e2.alpha, e2.beta);
     /* the correction: opposite, with its own (wider) band */
     const q15_t half_comp = FOC_I_Q15(0.5 * DEADTIME_COMP_CURRENT_A);
     const foc_abc_t i3 = { half_comp, (q15_t)-half_comp, 0 };
-    const foc_ab_t c3 = foc_deadtime_correction_ab(i3);
+    const foc_ab_t c3 = foc_deadtime_correction_ab(i3, FOC_DT_VOLTAGE);
     TK_CHECK(fabs(c3.alpha - 0.5 * v) <= 2.0 && fabs(c3.beta + v / (2.0 * 1.7320508)) <= 2.0,
              "correction: %d %d", c3.alpha, c3.beta);
-    const foc_ab_t c1 = foc_deadtime_correction_ab(i);
+    const foc_ab_t c1 = foc_deadtime_correction_ab(i, FOC_DT_VOLTAGE);
     TK_CHECK(c1.alpha == -e.alpha && c1.beta == -e.beta, "correction outside the band");
     const foc_abc_t zero = { 0, 0, 0 };
-    const foc_ab_t e0 = foc_deadtime_error_ab(zero);
+    const foc_ab_t e0 = foc_deadtime_error_ab(zero, FOC_DT_VOLTAGE);
     TK_CHECK(e0.alpha == 0 && e0.beta == 0, "zero current: %d %d", e0.alpha, e0.beta);
 }
 

@@ -347,6 +347,7 @@ void sim_commission_results(const sim_t *s, sim_commission_t *out)
     out->ld_h = m->ld_q14 / 16384.0 * MOTOR_LD_H;
     out->lq_h = m->lq_q14 / 16384.0 * MOTOR_LQ_H;
     out->flux_wb = m->flux_q14 / 16384.0 * FOC_FLUX_WB;
+    out->deadtime_s = m->dt_q14 / 16384.0 * DEADTIME_EFFECTIVE_S;
     out->mech = m->j_q12 != 0;
     out->j_kgm2 = MOTOR_INERTIA_KGM2;
     out->b_nms = MOTOR_VISCOUS_NM_PER_KRPM * 60.0 / (1000.0 * 2.0 * FOC_PI_D);
@@ -378,8 +379,8 @@ void sim_commission_print(const sim_t *s, FILE *f)
     if (r.failed_step[0] != 'N') {
         fprintf(f, "commission_step=%s\n", r.failed_step);
     }
-    fprintf(f, "id_rs_ohm=%.6g\nid_ld_h=%.6g\nid_lq_h=%.6g\nid_flux_wb=%.6g\n", r.rs_ohm, r.ld_h,
-            r.lq_h, r.flux_wb);
+    fprintf(f, "id_rs_ohm=%.6g\nid_ld_h=%.6g\nid_lq_h=%.6g\nid_flux_wb=%.6g\nid_deadtime_s=%.6g\n",
+            r.rs_ohm, r.ld_h, r.lq_h, r.flux_wb, r.deadtime_s);
     fprintf(f, "commission_mech=%s\n", r.mech ? "measured" : strcmp(r.failed_step, "MECH") == 0 ? "failed" : "not_run");
     if (r.mech) {
         fprintf(f, "id_j_kgm2=%.6g\nid_b_nms=%.6g\nid_coulomb_nm=%.6g\n", r.j_kgm2, r.b_nms, r.coulomb_nm);
@@ -420,6 +421,10 @@ int sim_commission_ini(const sim_t *s, FILE *f)
             (double)MOTOR_MAX_SPEED_RPM, (double)MOTOR_RATED_CURRENT_A, (double)CURRENT_LIMIT_A,
             r.j_kgm2, (r.b_nms > 0.0 ? r.b_nms : 0.0) * 1000.0 * 2.0 * FOC_PI_D / 60.0,
             r.coulomb_nm > 0.0 ? r.coulomb_nm : 0.0);
+    if (r.deadtime_s > 0.0) {
+        fprintf(f, "[userparms]\n# the bridge's effective dead time, as commissioning measured it\n"
+                   "DEADTIME_EFFECTIVE_S = %.6g\n", r.deadtime_s);
+    }
     return ferror(f) ? -1 : 0;
 }
 

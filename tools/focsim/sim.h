@@ -129,11 +129,13 @@ typedef struct {
     double b_nms;      /* viscous friction, Nm per rad/s */
     double coulomb_nm; /* dry friction (the friction line at zero speed) */
     /* (without `mech`: userparms.h's) */
+    double deadtime_s; /* the bridge's effective dead time (0: a build */
+                       /* without dead time, not measured) */
 } sim_commission_t;
 
 void sim_commission_results(const sim_t *s, sim_commission_t *out);
 
-/* The summary's keys id_rs_ohm, id_ld_h, id_lq_h, id_flux_wb, then
+/* The summary's keys id_rs_ohm, id_ld_h, id_lq_h, id_flux_wb, id_deadtime_s, then
  * commission_mech=measured|not_run and, measured, id_j_kgm2, id_b_nms,
  * id_coulomb_nm (and commission_step when one failed), only if a
  * commissioning ran. */
