@@ -1,8 +1,9 @@
 #!/bin/sh
 # Commissioning through the monitor (the board's path): focsim --pty at 20x
 # wall time, foc-monitor `commission`, waits for its end, `ident` writes the
-# motor file, which must carry the same Rs/Ld/Lq/flux focsim reports
-# (id_rs_ohm ..., from the same results) and which tools/tune.py must accept.
+# motor file, which must carry the same Rs/Ld/Lq/flux and dead time focsim
+# reports (id_rs_ohm ..., from the same results) and which tools/tune.py
+# must accept.
 #   monitor_ident.sh FOCSIM SRC_DIR WORK_DIR USERPARMS (the one focsim is built with)
 set -u
 focsim=$1 src=$2 work=$3 parms=$4
@@ -23,7 +24,8 @@ python3 "$src/tools/foc-monitor" --port "$pty" -e commission -e "wait COMMISSION
 wait $pid || { echo "focsim failed"; exit 1; }
 cat "$work/ident.ini"
 fail=0
-for k in rs_ohm:id_rs_ohm ld_h:id_ld_h lq_h:id_lq_h flux_linkage_wb:id_flux_wb; do
+for k in rs_ohm:id_rs_ohm ld_h:id_ld_h lq_h:id_lq_h flux_linkage_wb:id_flux_wb \
+         DEADTIME_EFFECTIVE_S:id_deadtime_s; do
     a=$(sed -n "s/^${k%%:*} = //p" "$work/ident.ini")
     b=$(sed -n "s/^${k#*:}=//p" "$work/focsim.out")
     python3 -c "import sys; a, b = float('$a'), float('$b'); sys.exit(0 if abs(a - b) <= 1e-4 * abs(b) else 1)" \
