@@ -651,7 +651,7 @@ FOC_STATIC_ASSERT(FOC_MTPA_K_PU < 7.999,
  * self-commissioning measures it (docs/commissioning.md, "RS").  The
  * compensation, the estimators' model of the bridge and the dead time's
  * speed floor use it: 25 % off, the angle error at 500 rpm on `plant
- * realistic` was 5.0-8.8 deg instead of 1.7-2.2 (docs/estimators.md). */
+ * realistic` was 4.9-8.5 deg instead of 1.8-2.2 (docs/estimators.md). */
 #ifndef DEADTIME_EFFECTIVE_S
 #define DEADTIME_EFFECTIVE_S PWM_DEADTIME_S
 #endif

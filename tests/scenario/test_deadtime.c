@@ -71,8 +71,7 @@ static void commissioned_run(foc_est_kind_t kind, double scale, double limit_deg
     scn_free(&scn);
 }
 
-/* Measured: PLL 0.817, Luenberger 1.126, flux 1.084 deg (0.832 / 1.084 /
- * 1.173 when the limits were set). */
+/* Measured: PLL 0.832, Luenberger 1.084, flux 1.173 deg. */
 static void case_deadtime_half(void)
 {
     commissioned_run(FOC_EST_PLL, 0.5, 2.5);
@@ -80,8 +79,7 @@ static void case_deadtime_half(void)
     commissioned_run(FOC_EST_FLUX, 0.5, 3.5);
 }
 
-/* Measured: PLL 2.536, Luenberger 2.757, flux 3.890 deg (2.351 / 2.961 /
- * 3.621 when the limits were set). */
+/* Measured: PLL 2.351, Luenberger 2.961, flux 3.621 deg. */
 static void case_deadtime_long(void)
 {
     commissioned_run(FOC_EST_PLL, 1.5, 7.1);
