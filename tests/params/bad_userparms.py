@@ -36,7 +36,7 @@ CASES = [  # (parameter, bad value, name the messages must contain)
     ("PWM_DEADTIME_S", "-1e-6", "PWM_DEADTIME_S"),
     ("CONTROL_SLOW_DIVIDER", "0", "CONTROL_SLOW_DIVIDER"),
     ("STALL_TICKS", "32000", "STALL_TICKS"),                  # 2 x (it + 64) > 16 bits
-    ("MOTOR_MAX_SPEED_RPM", "300.0", "PWM_DEADTIME_S"),        # no speed above the dead time
+    ("MOTOR_MAX_SPEED_RPM", "300.0", "DEADTIME_EFFECTIVE_S"),  # no speed above the dead time
 ]
 
 
