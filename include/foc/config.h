@@ -272,8 +272,8 @@ FOC_PARAM_POSITIVE(UNDERVOLTAGE_V, 4000.0);
 #define FOC_DTHETA_TO_SPEED_SHIFT ((uint8_t)FOC_GAIN_SHIFT(FOC_DTHETA_TO_SPEED_PU))
 
 /* Angle accumulator (uint32_t, 2^32 = 360 deg): increment per PWM period
- * per Q15 speed count.  Rounding error below 0.02 % for any base speed that
- * passes the 90-degrees-per-period check. */
+ * per Q15 speed count, rounded by up to 0.5 / it: the Shinano build's 2185
+ * for 2184.53 runs its speeds 0.021 % fast (docs/estimators.md). */
 #define FOC_THETA32_PER_SPEED ((int32_t)(2.0 * FOC_DTHETA_AT_BASE + 0.5))
 /* Angle turned in half a PWM period at speed 1.0, as a Q15 gain (< 0.25). */
 #define FOC_HALF_PERIOD_ANGLE Q15(0.5 * FOC_DTHETA_AT_BASE / 32768.0)
